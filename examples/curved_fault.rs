@@ -20,9 +20,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{flag, AnyError, Plan, Prepared, Program};
 use rsf_programs::{
-    describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
+    describe_method, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
     SliderArgs,
 };
 use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
@@ -73,11 +73,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "curved_fault";
-
-    fn limits(&self) -> Limits {
-        self.output.limits
-    }
+    rsf_programs::name_and_limits!("curved_fault", output.limits);
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;
@@ -105,12 +101,8 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     // cannot be written (the guard).
     let mode = prepared.mode();
     println!(
-        "curved_fault: level {}, {}, {} law, {}, {} solver, mesh {} → {}",
-        scene.level,
-        describe_time_step(&scene),
-        scene.state_law,
-        scene.integrator,
-        scene.solver,
+        "curved_fault: {}, mesh {} → {}",
+        describe_method(&scene),
         cli.mesh.display(),
         out.display()
     );

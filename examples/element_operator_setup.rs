@@ -89,11 +89,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "element_operator_setup";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("element_operator_setup");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         in_range(

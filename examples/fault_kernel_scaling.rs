@@ -16,7 +16,7 @@ use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::Until;
 use rsf_programs::cli::for_flag;
 use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
-use rsf_programs::{cpu_seconds, fit_exponent};
+use rsf_programs::{cpu_seconds, fit_exponents};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 use std::process::ExitCode;
 
@@ -52,11 +52,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fault_kernel_scaling";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fault_kernel_scaling");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dz", &self.dz)?;
@@ -180,20 +176,16 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
         }
     }
     for name in ["dense", "hierarchical"] {
-        let pick = |f: fn(&(&str, f64, f64, f64)) -> f64| -> Vec<(f64, f64)> {
-            rows.iter()
-                .filter(|r| r.0 == name)
-                .map(|r| (r.1, f(r)))
-                .collect()
-        };
-        let stored = pick(|r| r.2);
-        let cost = pick(|r| r.3);
-        if stored.len() >= 2 {
+        let sizes: Vec<(f64, [f64; 2])> = rows
+            .iter()
+            .filter(|r| r.0 == name)
+            .map(|r| (r.1, [r.2, r.3]))
+            .collect();
+        if sizes.len() >= 2 {
+            let [stored, cost] = fit_exponents(&sizes);
             println!(
-                "{name}: stored f64 ~ m^{:.3}, CPU per evaluation ~ m^{:.3} (least squares on log–log, {} sizes)",
-                fit_exponent(&stored),
-                fit_exponent(&cost),
-                stored.len()
+                "{name}: stored f64 ~ m^{stored:.3}, CPU per evaluation ~ m^{cost:.3} (least squares on log–log, {} sizes)",
+                sizes.len()
             );
         }
     }

@@ -24,7 +24,7 @@ use rsf::state::Aging;
 use rsf::{Material, ModelBuilder, Part, SimulationBuilder, Until};
 use rsf_programs::estimates::{fe_3d_box_vertices as box_vertices, fe_3d_memory};
 use rsf_programs::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_programs::{cpu_seconds, fit_exponent};
+use rsf_programs::{cpu_seconds, fit_exponents};
 use std::process::ExitCode;
 
 /// The fault operator of a BP5-like 3-D fault at several cell sizes.
@@ -65,11 +65,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fault_setup_3d";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fault_setup_3d");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dx", &self.dx)?;
@@ -268,15 +264,12 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             report.setup_seconds,
             per_eval * 1e3,
         );
-        rows.push((report.dim as f64, report.stored_entries as f64, per_eval));
+        rows.push((report.dim as f64, [report.stored_entries as f64, per_eval]));
     }
     if rows.len() >= 2 {
-        let stored: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.1)).collect();
-        let cost: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.2)).collect();
+        let [stored, cost] = fit_exponents(&rows);
         println!(
-            "stored f64 ~ m^{:.3}, CPU per evaluation ~ m^{:.3} (least squares on log–log, {} sizes)",
-            fit_exponent(&stored),
-            fit_exponent(&cost),
+            "stored f64 ~ m^{stored:.3}, CPU per evaluation ~ m^{cost:.3} (least squares on log–log, {} sizes)",
             rows.len()
         );
     }

@@ -76,11 +76,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fig6_1";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fig6_1");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         in_range(

@@ -58,11 +58,7 @@ fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fig6_2_6_3";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fig6_2_6_3");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;

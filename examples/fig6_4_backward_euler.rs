@@ -74,11 +74,7 @@ fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fig6_4";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fig6_4");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;
@@ -254,17 +250,7 @@ fn figures(
             "u_x (m)",
         ),
     ] {
-        let series: Vec<Vec<Series<'_>>> = data
-            .iter()
-            .map(|p| {
-                p.iter()
-                    .map(|(l, pts)| Series {
-                        label: l,
-                        points: pts,
-                    })
-                    .collect()
-            })
-            .collect();
+        let series: Vec<Vec<Series<'_>>> = data.iter().map(|p| Series::labelled(p)).collect();
         let panels: Vec<(&str, &[Series<'_>])> = labels
             .iter()
             .zip(&series)

@@ -52,11 +52,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "frames_cost";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("frames_cost");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;

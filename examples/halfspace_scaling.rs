@@ -21,7 +21,7 @@ use rsf::fault_operator::FaultOperator;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
 use rsf_programs::estimates::operator_bytes;
 use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
-use rsf_programs::{cpu_seconds, fit_exponent, machine};
+use rsf_programs::{cpu_seconds, fit_exponents, machine};
 
 #[path = "common/operator_timing.rs"]
 mod operator_timing;
@@ -46,11 +46,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "halfspace_scaling";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("halfspace_scaling");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dx", &self.dx)?;
@@ -104,17 +100,15 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             block_columns(report),
             product * 1e3
         );
-        rows.push((m as f64, report.stored_entries as f64, product, setup_wall));
+        rows.push((
+            m as f64,
+            [report.stored_entries as f64, product, setup_wall],
+        ));
     }
     if rows.len() >= 2 {
-        let fit = |f: fn(&(f64, f64, f64, f64)) -> f64| {
-            fit_exponent(&rows.iter().map(|r| (r.0, f(r))).collect::<Vec<_>>())
-        };
+        let [stored, product, setup] = fit_exponents(&rows);
         println!(
-            "stored f64 ~ m^{:.3}, product ~ m^{:.3}, set-up ~ m^{:.3} (least squares on log–log, {} sizes)",
-            fit(|r| r.1),
-            fit(|r| r.2),
-            fit(|r| r.3),
+            "stored f64 ~ m^{stored:.3}, product ~ m^{product:.3}, set-up ~ m^{setup:.3} (least squares on log–log, {} sizes)",
             rows.len()
         );
     }

@@ -38,9 +38,9 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
-use rsf_programs::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{number, refuse, AnyError, Plan, Prepared, Program};
 use rsf_programs::{
-    describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
+    describe_method, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
     SliderArgs,
 };
 use rsf_scenes::SliderScene;
@@ -123,11 +123,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "inclined_block";
-
-    fn limits(&self) -> Limits {
-        self.output.limits
-    }
+    rsf_programs::name_and_limits!("inclined_block", output.limits);
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;
@@ -152,13 +148,9 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     // cannot be written (the guard).
     let mode = prepared.mode();
     println!(
-        "inclined_block: dip {}°, level {}, {}, {} law, {}, {} solver → {}",
+        "inclined_block: dip {}°, {} → {}",
         cli.dip,
-        scene.level,
-        describe_time_step(&scene),
-        scene.state_law,
-        scene.integrator,
-        scene.solver,
+        describe_method(&scene),
         out.display()
     );
     let model = match cli.initial_equilibrium {

@@ -153,11 +153,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "long_run";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("long_run");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;

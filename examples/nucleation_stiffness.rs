@@ -118,35 +118,32 @@ impl Cli {
         Self::list(&self.ratios, &[1.2], &[1.3], self.scene)
     }
 
-    /// BP7's finite-element grids, every cell size with every ratio.
-    fn grids(&self) -> Vec<SquareVolumeGrid> {
-        let ratios = self.ratios();
+    /// `grid(dx, ratio)` of every cell size with every ratio (the ratios inner).
+    fn each_dx_and_ratio<G>(&self, grid: impl Fn(f64, f64) -> G) -> Vec<G> {
+        let (ratios, grid) = (self.ratios(), &grid);
         self.fe_dx()
             .into_iter()
-            .flat_map(|dx| {
-                ratios.iter().map(move |&ratio| SquareVolumeGrid {
-                    dx,
-                    domain: DOMAIN,
-                    ratio,
-                })
-            })
+            .flat_map(|dx| ratios.iter().map(move |&ratio| grid(dx, ratio)))
             .collect()
+    }
+
+    /// BP7's finite-element grids, every cell size with every ratio.
+    fn grids(&self) -> Vec<SquareVolumeGrid> {
+        self.each_dx_and_ratio(|dx, ratio| SquareVolumeGrid {
+            dx,
+            domain: DOMAIN,
+            ratio,
+        })
     }
 
     /// BP5's finite-element grids (`seas_bp5 --kernel fe`'s box), every cell size with
     /// every ratio.
     fn bp5_grids(&self) -> Vec<SeasBp5Grid> {
-        let ratios = self.ratios();
-        self.fe_dx()
-            .into_iter()
-            .flat_map(|dx| {
-                ratios.iter().map(move |&ratio| SeasBp5Grid {
-                    dx,
-                    ratio,
-                    ..SeasBp5Grid::default()
-                })
-            })
-            .collect()
+        self.each_dx_and_ratio(|dx, ratio| SeasBp5Grid {
+            dx,
+            ratio,
+            ..SeasBp5Grid::default()
+        })
     }
 
     /// BP5's plan: the cell sizes checked, the largest operator's memory.
@@ -183,11 +180,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "nucleation_stiffness";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("nucleation_stiffness");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         for ratio in self.ratios() {

@@ -158,11 +158,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "okada_anchor";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("okada_anchor");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--levels", &self.levels)?;

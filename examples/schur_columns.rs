@@ -24,7 +24,7 @@ use rsf::nonsmooth::Stopping;
 use rsf::{Material, Model, ModelBuilder, Parallelism, Part};
 use rsf_programs::estimates::fe_3d_memory;
 use rsf_programs::guard::{in_range, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_programs::{cpu_seconds, fit_exponent};
+use rsf_programs::{cpu_seconds, fit_exponents};
 
 /// `S` by elimination, by Cholesky solves and by multigrid solves.
 #[derive(Parser)]
@@ -58,11 +58,7 @@ const MAX_LEVEL: usize = 3;
 const UNIFORM_CUBE_FILL: f64 = 2.5;
 
 impl Program for Cli {
-    const NAME: &'static str = "schur_columns";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("schur_columns");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--levels", &self.levels)?;
@@ -203,17 +199,12 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             mg.2,
             mg.3,
         );
-        rows.push((dofs as f64, eliminate, chol.1 * m as f64, mg.1 * m as f64));
+        rows.push((dofs as f64, [eliminate, chol.1 * m as f64, mg.1 * m as f64]));
     }
     if rows.len() >= 2 {
-        let fit = |f: fn(&(f64, f64, f64, f64)) -> f64| {
-            fit_exponent(&rows.iter().map(|r| (r.0, f(r))).collect::<Vec<_>>())
-        };
+        let [elimination, cholesky, multigrid] = fit_exponents(&rows);
         println!(
-            "the whole S (m columns) against the dofs n: elimination ~ n^{:.2}, Cholesky solves ~ n^{:.2}, multigrid solves ~ n^{:.2} (least squares on log–log, {} levels)",
-            fit(|r| r.1),
-            fit(|r| r.2),
-            fit(|r| r.3),
+            "the whole S (m columns) against the dofs n: elimination ~ n^{elimination:.2}, Cholesky solves ~ n^{cholesky:.2}, multigrid solves ~ n^{multigrid:.2} (least squares on log–log, {} levels)",
             rows.len()
         );
     }

@@ -61,11 +61,7 @@ fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
 const ROW_BYTES: f64 = 170.0;
 
 impl Program for Cli {
-    const NAME: &'static str = "slider_absorbing";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("slider_absorbing");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;

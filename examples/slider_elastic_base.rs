@@ -67,11 +67,7 @@ fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "slider_elastic_base";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("slider_elastic_base");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;

@@ -46,11 +46,7 @@ struct Cli {
 const MODEL_BYTES_PER_NODE: [f64; 2] = [5e3, 12e3];
 
 impl Program for Cli {
-    const NAME: &'static str = "solver_memory";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("solver_memory");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         if let Some(gib) = self.memory_budget_gib {

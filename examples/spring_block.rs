@@ -326,11 +326,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "spring_block";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("spring_block");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let steps = self.steps()?;

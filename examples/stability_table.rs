@@ -38,11 +38,7 @@ struct Cli {
 }
 
 impl rsf_programs::guard::Program for Cli {
-    const NAME: &'static str = "stability_table";
-
-    fn limits(&self) -> rsf_programs::guard::Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("stability_table");
 
     fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
         // Fixed cases of the paper's slider at levels ≤ 3; the table goes to the terminal.

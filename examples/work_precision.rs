@@ -166,11 +166,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "work_precision";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("work_precision");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         if let Some(u) = &self.uniform {
@@ -189,32 +185,29 @@ impl Program for Cli {
         }
         let study = self.study;
         let has = |s: &[Study]| s.contains(&study);
-        // (csv, figure) of each study this run makes.
+        // The tables (in `--out`) and figures (in `--figures`) of the studies this run
+        // makes: each study's `--study` values, its name, whether it draws a figure
+        // (`work_precision_{name}.png`).
+        let studies: [(&[Study], &str, bool); 6] = [
+            (&[Study::All, Study::Time], "time_step", true),
+            (&[Study::All, Study::Tol], "tolerance", true),
+            (&[Study::Adaptive], "adaptive", true),
+            (&[Study::All, Study::Mesh], "mesh", true),
+            (&[Study::Energy], "energy", false),
+            (&[Study::Integrators], "integrators", true),
+        ];
         let mut csv = Vec::new();
         let mut png = Vec::new();
-        if has(&[Study::All, Study::Time]) {
-            csv.push("time_step.csv");
-            png.push("work_precision_time_step.png");
+        for (values, name, figure) in studies {
+            if has(values) {
+                csv.push(format!("{name}.csv"));
+                if figure {
+                    png.push(format!("work_precision_{name}.png"));
+                }
+            }
         }
-        if has(&[Study::All, Study::Tol]) {
-            csv.push("tolerance.csv");
-            png.push("work_precision_tolerance.png");
-        }
-        if has(&[Study::Adaptive]) {
-            csv.push("adaptive.csv");
-            png.push("work_precision_adaptive.png");
-        }
-        if has(&[Study::All, Study::Mesh]) {
-            csv.push("mesh.csv");
-            png.push("work_precision_mesh.png");
-        }
-        if has(&[Study::Energy]) {
-            csv.push("energy.csv");
-        }
-        if has(&[Study::Integrators]) {
-            csv.push("integrators.csv");
-            png.push("work_precision_integrators.png");
-        }
+        let csv: Vec<&str> = csv.iter().map(String::as_str).collect();
+        let png: Vec<&str> = png.iter().map(String::as_str).collect();
         // The finest level any run takes (the mesh study's reference: j = 5, or 6 with
         // --big) and the longest run's every step in memory (the reference at --ref-n,
         // the profile run at --steps).

@@ -2,7 +2,9 @@
 
 use rsf_scenes::SliderScene;
 
-use crate::trace::Trace;
+use crate::common::log;
+use crate::plot::Point;
+use crate::trace::{trace, Trace};
 
 /// Errors (a), (b), (c) of `run` against `reference` (relative; None if undefined).
 #[derive(Debug, Clone, Copy, Default)]
@@ -24,6 +26,32 @@ impl Errors {
             opt(self.lnv),
             run.failure.as_deref().unwrap_or("")
         )
+    }
+
+    /// The point of `run` in a study's figure: `label`, its CPU time (s) and these errors.
+    pub(crate) fn point(&self, label: String, run: &Trace) -> Point {
+        (label, run.cpu_s, [self.u, self.ts, self.lnv])
+    }
+}
+
+/// The run of `scene` recorded over `(t_min, t_max)` ([`trace`], to its first slip event)
+/// and its errors against `reference`; `None` where the run fails, logged as
+/// `  {what}: {error}`.
+pub(crate) fn traced(
+    scene: &SliderScene,
+    (t_min, t_max): (f64, f64),
+    reference: &Trace,
+    what: std::fmt::Arguments<'_>,
+) -> Option<(Trace, Errors)> {
+    match trace(scene, t_min, t_max, true) {
+        Ok(run) => {
+            let e = errors(&run, reference, scene);
+            Some((run, e))
+        }
+        Err(e) => {
+            log(&format!("  {what}: {e}"));
+            None
+        }
     }
 }
 

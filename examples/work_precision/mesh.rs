@@ -159,11 +159,7 @@ pub(crate) fn mesh_study(c: &Ctx) -> Res<()> {
             ));
             let _ = writeln!(csv, "{j},{},{n},{}", solver.name(), row(&tr, &e));
             std::fs::write(c.out.join("mesh.csv"), &csv)?;
-            points.push((
-                format!("{} (j = 2…)", solver.name()),
-                tr.cpu_s,
-                [e.u, e.ts, e.lnv],
-            ));
+            points.push(e.point(format!("{} (j = 2…)", solver.name()), &tr));
         }
     }
     // Timing of the reference with TNNMG, for the TNNMG-vs-direct comparison at j_max.

@@ -71,18 +71,7 @@ pub(crate) fn plot_panels(
         }
     }
     let pad = 0.05 * (x1 - x0).max(0.1);
-    let series: Vec<Vec<Series<'_>>> = data
-        .iter()
-        .map(|panel| {
-            panel
-                .iter()
-                .map(|(l, p)| Series {
-                    label: l,
-                    points: p,
-                })
-                .collect()
-        })
-        .collect();
+    let series: Vec<Vec<Series<'_>>> = data.iter().map(|panel| Series::labelled(panel)).collect();
     let panels: Vec<(&str, &[Series<'_>])> = titles
         .iter()
         .zip(&series)

@@ -7,7 +7,7 @@ use rsf::{Integrator, SolverKind};
 use rsf_scenes::SliderScene;
 
 use crate::common::{base, log, window, Ctx, Res};
-use crate::errors::{errors, opt, row, Errors, ROW_HEAD};
+use crate::errors::{errors, opt, row, traced, Errors, ROW_HEAD};
 use crate::plot::plot_panels;
 use crate::trace::{timed_trace, trace, Trace};
 
@@ -56,14 +56,10 @@ pub(crate) fn time_study(c: &Ctx) -> Res<()> {
                 s.integrator = integrator;
                 s.solver = solver;
                 s.state_integrator = c.state_integrator;
-                let tr = match trace(&s, tmin, tmax, true) {
-                    Ok(t) => t,
-                    Err(e) => {
-                        log(&format!("  N = {n}: {e}"));
-                        continue;
-                    }
+                let Some((tr, e)) = traced(&s, (tmin, tmax), &reference, format_args!("N = {n}"))
+                else {
+                    continue;
                 };
-                let e = errors(&tr, &reference, &s);
                 log(&format!(
                     "  {} {} N = {n}: {:.2} s, {}",
                     integrator.name(),
@@ -81,11 +77,7 @@ pub(crate) fn time_study(c: &Ctx) -> Res<()> {
                     row(&tr, &e)
                 );
                 std::fs::write(c.out.join("time_step.csv"), &csv)?;
-                points.push((
-                    format!("{} {}", integrator.name(), solver.name()),
-                    tr.cpu_s,
-                    [e.u, e.ts, e.lnv],
-                ));
+                points.push(e.point(format!("{} {}", integrator.name(), solver.name()), &tr));
             }
         }
     }
@@ -191,7 +183,7 @@ pub(crate) fn adaptive_study(c: &Ctx) -> Res<()> {
         if tr.failure.is_none() {
             results.push((method, key, tr.cpu_s, *e));
         }
-        points.push((method.to_string(), tr.cpu_s, [e.u, e.ts, e.lnv]));
+        points.push(e.point(method.to_string(), tr));
     }
     std::fs::write(c.out.join("adaptive.csv"), &csv)?;
     for target in [1e-2, 1e-3, 1e-4] {

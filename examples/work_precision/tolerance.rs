@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use rsf::SolverKind;
 
 use crate::common::{base, log, window, Ctx, Res};
-use crate::errors::{errors, opt, row, Errors, ROW_HEAD};
+use crate::errors::{opt, row, traced, Errors, ROW_HEAD};
 use crate::plot::plot_panels;
 use crate::trace::{trace, Trace};
 
@@ -61,14 +61,14 @@ pub(crate) fn tol_study(c: &Ctx) -> Res<()> {
                     if sweep != "fixed-point" {
                         s.solver_tolerance = tol;
                     }
-                    let tr = match trace(&s, tmin, tmax, true) {
-                        Ok(t) => t,
-                        Err(e) => {
-                            log(&format!("  tol {tol:e} {sweep}: {e}"));
-                            continue;
-                        }
+                    let Some((tr, e)) = traced(
+                        &s,
+                        (tmin, tmax),
+                        &reference,
+                        format_args!("tol {tol:e} {sweep}"),
+                    ) else {
+                        continue;
                     };
-                    let e = errors(&tr, &reference, &s);
                     log(&format!(
                         "  tol N = {n} {} {sweep} {tol:e}: {:.2} s, err a {} b {} c {}",
                         solver.name(),
@@ -87,11 +87,7 @@ pub(crate) fn tol_study(c: &Ctx) -> Res<()> {
                     );
                     std::fs::write(c.out.join("tolerance.csv"), &csv)?;
                     if sweep == "both" {
-                        points.push((
-                            format!("N={n} {}", solver.name()),
-                            tr.cpu_s,
-                            [e.u, e.ts, e.lnv],
-                        ));
+                        points.push(e.point(format!("N={n} {}", solver.name()), &tr));
                     }
                 }
             }

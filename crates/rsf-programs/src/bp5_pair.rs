@@ -19,14 +19,13 @@
 //! `settings`.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
-use crate::network::{run_network, NetworkRun};
+use crate::guard::{number, written, AnyError, Plan, Prepared};
+use crate::network::{run_network, NetworkEnd, NetworkRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::fault_ode::InteriorOrdering;
@@ -55,14 +54,8 @@ pub struct Args {
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
-    /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the faults' fields (crates/rsf-hdf5's `bp5_pair`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The run's peak (bytes) of `--kernel fe` with nested dissection, the anchor of its
@@ -94,12 +87,7 @@ const SETUP_FILE: &str = "setup.bin";
 
 /// The files a run writes into `--out`.
 fn outputs(pair: &Bp5Pair) -> Vec<String> {
-    let mut names: Vec<String> = pair
-        .stations()
-        .iter()
-        .map(|s| format!("{}_{}.csv", s.fault, s.label))
-        .collect();
-    names.extend(crate::network::NETWORK_FILES.map(String::from));
+    let mut names = crate::network::network_outputs(&pair.stations());
     names.push(SETUP_FILE.into());
     names
 }
@@ -112,7 +100,7 @@ impl Args {
     }
 }
 
-crate::seas_args::configured_program!(Args, "bp5_pair");
+crate::seas_args::configured_program!(Args, "bp5_pair", job);
 
 impl Args {
     /// The plan of the checked settings.
@@ -135,7 +123,7 @@ impl Args {
                 // one-plane mesh's, by arithmetic; an oversize octree refused naming
                 // --domain-km) is already too large; else the pair's graded mesh counted.
                 let fewest = crate::seas_bp5::graded_mesh_fewest_vertices(&grid, run.domain_km)?;
-                let limit = self.limits.max_memory_gb * 1e9;
+                let limit = self.job.limits.max_memory_gb * 1e9;
                 let vertices = if peak(fewest) > limit {
                     fewest
                 } else {
@@ -192,17 +180,7 @@ fn kernel_name(kernel: Bp5Kernel) -> &'static str {
     }
 }
 
-/// The program `bp5_pair` (`cargo run --release --example bp5_pair -- --out DIR …`).
-pub fn main() -> ExitCode {
-    crate::guard::main(run)
-}
-
-/// The program `bp5_pair` with `writers` of the faults' fields (`--hdf5 N`,
-/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d); the binary `bp5_pair`
-/// of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
-}
+crate::seas_args::entry_points!(Args, run, "bp5_pair", "FieldWriters::fault_3d");
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.resolved();
@@ -228,7 +206,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             // The Schur complement alone (no factor kept), its elimination checkpointed in
             // the run folder (as seas_bp5's).
             let path = args.out.join(SETUP_FILE);
-            if args.run.resume.is_none() {
+            if args.job.run.resume.is_none() {
                 match std::fs::remove_file(&path) {
                     Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),
                     _ => {}
@@ -237,11 +215,15 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             let setup = rsf::fault_ode::SchurOnlySetup {
                 watch_vertices: Vec::new(),
                 checkpoint: Some(rsf::direct::CheckpointPolicy::new(&path)),
-                max_bytes: Some((args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
+                max_bytes: Some(
+                    (args.job.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize
+                ),
                 progress: None,
             };
             pair.fe_fault_ode_schur_only(model, options, setup)
-                .map_err(|e| crate::run_folder::kept_setup_hint(e, &path, &args.run.allow_change))?
+                .map_err(|e| {
+                    crate::run_folder::kept_setup_hint(e, &path, &args.job.run.allow_change)
+                })?
         }
     };
     let fb = &ode.model().frictional_boundary;
@@ -268,16 +250,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         w.fault_3d(t)
     })?;
     crate::network::finish(
-        crate::network::NetworkEnd {
-            out: &args.out,
-            outcome: &outcome,
-            evaluations: ode.evaluations(),
-            integrator: crate::IntegratorArgs {
-                integrator: run.integrator,
-            }
-            .summary(Some(ode.integrator_stats())),
-            started: (clock, cpu0),
-        },
+        NetworkEnd::of(&args.out, &outcome, &ode, run.integrator, (clock, cpu0)),
         serde_json::json!({
             "program": "bp5_pair",
             "scene": pair,

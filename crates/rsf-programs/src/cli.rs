@@ -241,6 +241,19 @@ impl<P: ProgramScene> SliderArgs<P> {
     }
 }
 
+/// A one-line description of the method of `scene`: `level {level}, {time steps}, {law}
+/// law, {integrator}, {solver} solver` (the time steps as [`describe_time_step`]).
+pub fn describe_method(scene: &SliderScene) -> String {
+    format!(
+        "level {}, {}, {} law, {}, {} solver",
+        scene.level,
+        describe_time_step(scene),
+        scene.state_law,
+        scene.integrator,
+        scene.solver
+    )
+}
+
 /// A one-line description of the time steps of `scene`.
 pub fn describe_time_step(scene: &SliderScene) -> String {
     match scene.time_step {
@@ -580,6 +593,25 @@ impl ResumeArgs {
     pub fn folder(&self, folder: crate::guard::Folder) -> crate::guard::Folder {
         folder
             .resume_from(self.resume.as_deref())
+            .allow_change(&self.allow_change)
+    }
+}
+
+impl crate::run_folder::FolderArgs {
+    /// The folder `--out` (`out`, holding `outputs`) with these flags (`--overwrite`,
+    /// `--allow-change`) and the checkpoint `resume` (`--resume FILE`) it continues from:
+    /// [`Folder::overwrite`](crate::guard::Folder::overwrite),
+    /// [`Folder::resume_from`](crate::guard::Folder::resume_from) and
+    /// [`Folder::allow_change`](crate::guard::Folder::allow_change).
+    pub fn out_folder(
+        &self,
+        out: &Path,
+        outputs: &[&str],
+        resume: Option<&Path>,
+    ) -> crate::guard::Folder {
+        crate::guard::Folder::new("--out", out, outputs)
+            .overwrite(self.overwrite)
+            .resume_from(resume)
             .allow_change(&self.allow_change)
     }
 }

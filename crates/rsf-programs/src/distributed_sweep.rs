@@ -92,11 +92,7 @@ impl Args {
 }
 
 impl Program for Args {
-    const NAME: &'static str = "distributed_sweep";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    crate::name_and_limits!("distributed_sweep");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let needs = |given: bool, flag: &str, needed: &str| -> Result<(), AnyError> {

@@ -420,6 +420,8 @@ mod tests {
 
     use super::{FieldWriters, FieldsTarget, NoFieldWriter};
     use crate::guard::{parse_from, Program};
+    use crate::{bp5_pair, pipping_slider, seas_bp1, seas_bp3, seas_bp5, seas_bp6, seas_bp7};
+    use crate::{seas_bp8, slider_3d, stepover};
     use rsf::Observer;
 
     /// Writers that make nothing (the plan does not call them).
@@ -451,10 +453,41 @@ mod tests {
         }
     }
 
+    /// A program with `--hdf5`, whose writers can be supplied.
+    trait WithFields: Program {
+        /// Supplies [`Nothing`] to the arguments' [`FieldArgs`](super::FieldArgs).
+        fn supply_nothing(&mut self);
+    }
+
+    /// `impl WithFields` for each program, its [`FieldArgs`](super::FieldArgs) at the
+    /// field path given.
+    macro_rules! with_fields {
+        ($($program:ty: $($field:ident).+;)*) => {
+            $(impl WithFields for $program {
+                fn supply_nothing(&mut self) {
+                    self.$($field).+.supply(Arc::new(Nothing))
+                }
+            })*
+        };
+    }
+
+    with_fields! {
+        slider_3d::Cli: frames.fields;
+        pipping_slider::Cli: frames.fields;
+        seas_bp1::Args: job.fields;
+        seas_bp3::Args: job.fields;
+        seas_bp5::Args: fields;
+        seas_bp6::Args: job.fields;
+        seas_bp7::Args: job.fields;
+        seas_bp8::Args: job.fields;
+        stepover::Args: job.fields;
+        bp5_pair::Args: job.fields;
+    }
+
     /// `P` with `flags`: `--help` documents `--hdf5`; without writers `--hdf5 3` is refused
     /// by the plan naming the flag and crates/rsf-hdf5's binary `name`, `--hdf5 0` is not;
-    /// with writers (`supply`) the plan accepts it.
-    fn refused_without_writers<P: Program>(name: &str, flags: &[&str], supply: fn(&mut P)) {
+    /// with writers ([`WithFields::supply_nothing`]) the plan accepts it.
+    fn refused_without_writers<P: WithFields>(name: &str, flags: &[&str]) {
         let help = P::command().render_long_help().to_string();
         assert!(help.contains("--hdf5 <N>"), "{name}: {help}");
         let args = |n: &'static str| {
@@ -476,23 +509,18 @@ mod tests {
         let (p, _) = parse_from::<P, _, _>(args("0")).unwrap();
         p.plan().unwrap_or_else(|e| panic!("{name} --hdf5 0: {e}"));
         let (mut p, _) = parse_from::<P, _, _>(args("3")).unwrap();
-        supply(&mut p);
+        p.supply_nothing();
         p.plan()
             .unwrap_or_else(|e| panic!("{name} with writers: {e}"));
     }
 
     /// `P` with writers, `flags` and `--hdf5 N` (the default `--max-output-gb`, 10): the
     /// plan.
-    fn planned<P: Program>(
-        name: &str,
-        flags: &[&str],
-        n: &str,
-        supply: fn(&mut P),
-    ) -> crate::guard::Plan {
+    fn planned<P: WithFields>(name: &str, flags: &[&str], n: &str) -> crate::guard::Plan {
         let mut a = vec![name, "--hdf5", n];
         a.extend_from_slice(flags);
         let (mut p, _) = parse_from::<P, _, _>(a).unwrap();
-        supply(&mut p);
+        p.supply_nothing();
         p.plan()
             .unwrap_or_else(|e| panic!("{name} --hdf5 {n}: {e}"))
     }
@@ -505,9 +533,8 @@ mod tests {
     /// without `--hdf5` no cap.
     #[test]
     fn an_adaptive_runs_fields_are_planned_within_the_output_limit() {
-        type Supply<P> = fn(&mut P);
-        fn check<P: Program>(name: &str, flags: &[&str], supply: Supply<P>, frame: Option<f64>) {
-            let every = planned::<P>(name, flags, "1", supply);
+        fn check<P: WithFields>(name: &str, flags: &[&str], frame: Option<f64>) {
+            let every = planned::<P>(name, flags, "1");
             let cap = every.step_cap().unwrap_or_else(|| panic!("{name}: no cap"));
             assert!(
                 cap >= 1 && every.output_bytes() <= 10e9,
@@ -521,18 +548,18 @@ mod tests {
                     every.output_bytes()
                 );
             }
-            let sparse = planned::<P>(name, flags, "1000000", supply);
+            let sparse = planned::<P>(name, flags, "1000000");
             assert!(
                 sparse.step_cap().is_none_or(|c| c >= 1_000_000 * cap),
                 "{name}: {:?} against {cap}",
                 sparse.step_cap()
             );
-            let none = planned::<P>(name, flags, "0", supply);
+            let none = planned::<P>(name, flags, "0");
             assert_eq!(none.step_cap(), None, "{name}");
             let mut a = vec![name, "--hdf5", "1", "--max-steps", "1000000000"];
             a.extend_from_slice(flags);
             let (mut p, _) = parse_from::<P, _, _>(a).unwrap();
-            supply(&mut p);
+            p.supply_nothing();
             let e = p
                 .plan()
                 .err()
@@ -544,82 +571,64 @@ mod tests {
             );
         }
         let frame_1km = super::FIELDS_VERTEX_BYTES * 101.0 * 41.0 + super::FIELDS_FRAME_BYTES;
-        check::<crate::seas_bp5::Args>(
-            "seas_bp5",
-            &["--dx", "1000"],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            Some(frame_1km),
-        );
-        check::<crate::seas_bp1::Args>(
-            "seas_bp1",
-            &["--out", "out/seas_bp1"],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::seas_bp3::Args>(
-            "seas_bp3",
-            &[],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::seas_bp6::Args>(
-            "seas_bp6",
-            &["--variant", "a"],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::seas_bp7::Args>(
-            "seas_bp7",
-            &[],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::seas_bp8::Args>(
-            "seas_bp8",
-            &[],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::stepover::Args>(
-            "stepover",
-            &[],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
-        check::<crate::bp5_pair::Args>(
-            "bp5_pair",
-            &[],
-            |p| p.fields.supply(Arc::new(Nothing)),
-            None,
-        );
+        type Check = fn(&str, &[&str], Option<f64>);
+        let programs: [(&str, &[&str], Option<f64>, Check); 8] = [
+            (
+                "seas_bp5",
+                &["--dx", "1000"],
+                Some(frame_1km),
+                check::<seas_bp5::Args>,
+            ),
+            (
+                "seas_bp1",
+                &["--out", "out/seas_bp1"],
+                None,
+                check::<seas_bp1::Args>,
+            ),
+            ("seas_bp3", &[], None, check::<seas_bp3::Args>),
+            (
+                "seas_bp6",
+                &["--variant", "a"],
+                None,
+                check::<seas_bp6::Args>,
+            ),
+            ("seas_bp7", &[], None, check::<seas_bp7::Args>),
+            ("seas_bp8", &[], None, check::<seas_bp8::Args>),
+            ("stepover", &[], None, check::<stepover::Args>),
+            ("bp5_pair", &[], None, check::<bp5_pair::Args>),
+        ];
+        for (name, flags, frame, check) in programs {
+            check(name, flags, frame);
+        }
     }
 
     #[test]
     fn hdf5_is_refused_by_a_build_without_writers_naming_the_flag_and_the_binary() {
-        refused_without_writers::<crate::slider_3d::Cli>("slider_3d", &[], |p| {
-            p.frames.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::pipping_slider::Cli>("pipping_slider", &[], |p| {
-            p.frames.fields.supply(Arc::new(Nothing))
-        });
-        let out = ["--out", "out/seas_bp1"];
-        refused_without_writers::<crate::seas_bp1::Args>("seas_bp1", &out, |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::seas_bp3::Args>("seas_bp3", &[], |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::seas_bp5::Args>("seas_bp5", &[], |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::seas_bp6::Args>("seas_bp6", &["--variant", "a"], |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::seas_bp7::Args>("seas_bp7", &[], |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
-        refused_without_writers::<crate::seas_bp8::Args>("seas_bp8", &[], |p| {
-            p.fields.supply(Arc::new(Nothing))
-        });
+        type Refused = fn(&str, &[&str]);
+        let programs: [(&str, &[&str], Refused); 8] = [
+            ("slider_3d", &[], refused_without_writers::<slider_3d::Cli>),
+            (
+                "pipping_slider",
+                &[],
+                refused_without_writers::<pipping_slider::Cli>,
+            ),
+            (
+                "seas_bp1",
+                &["--out", "out/seas_bp1"],
+                refused_without_writers::<seas_bp1::Args>,
+            ),
+            ("seas_bp3", &[], refused_without_writers::<seas_bp3::Args>),
+            ("seas_bp5", &[], refused_without_writers::<seas_bp5::Args>),
+            (
+                "seas_bp6",
+                &["--variant", "a"],
+                refused_without_writers::<seas_bp6::Args>,
+            ),
+            ("seas_bp7", &[], refused_without_writers::<seas_bp7::Args>),
+            ("seas_bp8", &[], refused_without_writers::<seas_bp8::Args>),
+        ];
+        for (name, flags, refused) in programs {
+            refused(name, flags);
+        }
     }
 }

@@ -63,8 +63,8 @@ pub mod stepover;
 #[cfg(feature = "seas")]
 pub use cli::SeasHeaderArgs;
 pub use cli::{
-    describe_time_step, FrameArgs, IntegratorArgs, KernelArg, KernelArgs, PaperFigures,
-    PaperSlider, PaperSlider3d, PaperSliderAt, ProgramScene, ResumeArgs, SliderArgs,
+    describe_method, describe_time_step, FrameArgs, IntegratorArgs, KernelArg, KernelArgs,
+    PaperFigures, PaperSlider, PaperSlider3d, PaperSliderAt, ProgramScene, ResumeArgs, SliderArgs,
 };
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
@@ -72,8 +72,8 @@ pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
 pub use panels::PanelLayout;
 pub use process::{main_on_threads, main_with};
 pub use run::{
-    cpu_seconds, fit_exponent, machine, old_wall_time, stats, step_control_json, write_summary,
-    SliderRun, SliderStats,
+    cpu_seconds, fit_exponent, fit_exponents, machine, old_wall_time, stats, step_control_json,
+    write_summary, SliderRun, SliderStats,
 };
 pub use run_folder::FolderArgs;
 #[cfg(feature = "seas")]
@@ -105,6 +105,18 @@ impl<'a> Series<'a> {
     /// A single unlabelled series, as a one-element list for the plot functions.
     pub fn alone(points: &'a [(f64, f64)]) -> [Series<'a>; 1] {
         [Series { label: "", points }]
+    }
+
+    /// One series per `(label, points)` of `lines`, in their order (a panel of
+    /// [`Series::panels`], or a [`line_plot`]).
+    pub fn labelled<L: AsRef<str>>(lines: &'a [(L, Vec<(f64, f64)>)]) -> Vec<Series<'a>> {
+        lines
+            .iter()
+            .map(|(label, points)| Series {
+                label: label.as_ref(),
+                points,
+            })
+            .collect()
     }
 }
 

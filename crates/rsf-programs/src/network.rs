@@ -6,11 +6,14 @@ use std::path::Path;
 
 use plotters::prelude::*;
 use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::OdeIntegrator;
+use rsf::friction::FrictionLaw;
 use rsf::observe::{
     EventThresholds, FaultCatalogue, FaultStation, FaultStations, FileMode, NetworkEvent, Progress,
     TimeUnit, SECONDS_PER_YEAR,
 };
-use rsf::{RunSummary, Stepping};
+use rsf::state::StateLaw;
+use rsf::{FaultOde, RunSummary, Stepping};
 
 use crate::fields::{FieldArgs, FieldWriters, FieldsRun, FieldsTarget};
 use crate::guard::{AnyError, Prepared};
@@ -28,6 +31,17 @@ pub const NETWORK_FILES: [&str; 5] = [
     "catalogue.png",
     "checkpoint.bin",
 ];
+
+/// The files a network run writes into its folder: a station file `{fault}_{label}.csv` for
+/// each of `stations`, then [`NETWORK_FILES`].
+pub(crate) fn network_outputs<const D: usize>(stations: &[FaultStation<D>]) -> Vec<String> {
+    let mut names: Vec<String> = stations
+        .iter()
+        .map(|s| format!("{}_{}.csv", s.fault, s.label))
+        .collect();
+    names.extend(NETWORK_FILES.map(String::from));
+    names
+}
 
 /// How a network program runs: its folder, end, resume flags and the catalogue's rigidity.
 pub struct NetworkRun<'a> {
@@ -275,6 +289,27 @@ pub struct NetworkEnd<'a> {
     pub integrator: serde_json::Value,
     /// The wall clock and the CPU seconds at the program's start.
     pub started: (std::time::Instant, f64),
+}
+
+impl<'a> NetworkEnd<'a> {
+    /// The end of the run of `ode` (its evaluations; the summary of `integrator`, the
+    /// method it was given, with what it did) into `out` with `outcome`, started at
+    /// `started` (the wall clock, the CPU seconds).
+    pub(crate) fn of<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize>(
+        out: &'a Path,
+        outcome: &'a NetworkOutcome,
+        ode: &FaultOde<D, L, S, C>,
+        integrator: OdeIntegrator,
+        started: (std::time::Instant, f64),
+    ) -> Self {
+        NetworkEnd {
+            out,
+            outcome,
+            evaluations: ode.evaluations(),
+            integrator: crate::IntegratorArgs { integrator }.summary(Some(ode.integrator_stats())),
+            started,
+        }
+    }
 }
 
 /// Prints a network run's last lines and writes its `summary.json`: the program's own keys

@@ -5,11 +5,11 @@
 
 use std::path::PathBuf;
 
-use crate::cli::describe_time_step;
+use crate::cli::describe_method;
 use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
 use crate::fields::FieldsRun;
-use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{AnyError, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
 use crate::session::{Session, SessionFlags};
 use crate::{
@@ -73,11 +73,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "pipping_slider";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    crate::name_and_limits!("pipping_slider");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;
@@ -133,10 +129,8 @@ impl Program for Cli {
                 what,
             )
             .folder(
-                Folder::new("--out", &self.out, &OUTPUTS)
-                    .overwrite(self.folder.overwrite)
-                    .resume_from(self.resume.as_deref())
-                    .allow_change(&self.folder.allow_change)
+                self.folder
+                    .out_folder(&self.out, &OUTPUTS, self.resume.as_deref())
                     .fingerprint(self.fingerprint(&scene)),
             ))
     }
@@ -207,12 +201,8 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let folder = RunFolder::new(&cli.out, "pipping_slider", &OUTPUTS);
     let out = folder.dir.clone();
     println!(
-        "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
-        scene.level,
-        describe_time_step(&scene),
-        scene.state_law,
-        scene.integrator,
-        scene.solver,
+        "pipping_slider: {} → {}",
+        describe_method(&scene),
         out.display()
     );
 

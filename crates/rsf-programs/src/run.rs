@@ -294,6 +294,16 @@ pub fn fit_exponent(xy: &[(f64, f64)]) -> f64 {
     num / den
 }
 
+/// The exponents ([`fit_exponent`]) of each of the `K` columns `ys` of `rows` (`(x, ys)`)
+/// against `x`: `p[k]` of a fit `ys[k] ≈ c xᵖ`, in the columns' order. NaN for fewer than
+/// two distinct `x`.
+pub fn fit_exponents<const K: usize>(rows: &[(f64, [f64; K])]) -> [f64; K] {
+    std::array::from_fn(|k| {
+        let xy: Vec<(f64, f64)> = rows.iter().map(|(x, ys)| (*x, ys[k])).collect();
+        fit_exponent(&xy)
+    })
+}
+
 /// A one-line description of this machine (CPU model and core count).
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")

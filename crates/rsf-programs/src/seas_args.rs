@@ -19,6 +19,23 @@ use crate::fields::{FaultSize, FieldArgs, FieldWriters, FieldsRun, FieldsTarget}
 use crate::guard::{AnyError, Folder, Limits, Plan};
 use crate::session::Session;
 
+/// The flags a SEAS program or fault network ends with (in one group, flattened into its
+/// arguments as the field `job`): how the run resumes ([`ResumeArgs`]: `--checkpoint-every`,
+/// `--resume`, `--allow-change`, `--max-steps`), the fault's fields ([`FieldArgs`]: `--hdf5
+/// N`) and the bounds ([`Limits`]: `--max-memory-gb`, `--max-output-gb`).
+#[derive(Debug, Clone, clap::Args)]
+pub(crate) struct JobArgs {
+    /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    pub run: ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (the binaries of crates/rsf-hdf5).
+    #[command(flatten)]
+    pub fields: FieldArgs,
+    /// `--max-memory-gb`, `--max-output-gb`.
+    #[command(flatten)]
+    pub limits: Limits,
+}
+
 /// The flags of a run beside its settings, borrowed from a program's arguments
 /// (`flags()`, made by [`configured_program!`]).
 #[derive(Debug, Clone, Copy)]
@@ -36,7 +53,7 @@ pub(crate) struct RunFlags<'a> {
     /// `--hdf5`.
     pub(crate) fields: &'a FieldArgs,
     /// `--max-memory-gb`, `--max-output-gb`.
-    pub(crate) limits: Limits,
+    pub limits: Limits,
 }
 
 impl RunFlags<'_> {
@@ -134,7 +151,8 @@ pub(crate) fn run_observed<'a, const D: usize, const C: usize, M: Stepping<D, C>
 /// `impl Program for $args`, the arguments of a program with a run configuration and the
 /// fields `settings` (its settings), `config` (`--config`, [`ConfigArgs`]), `out`,
 /// `overwrite`, `threads`, `run` ([`ResumeArgs`]), `fields` ([`FieldArgs`]) and `limits`
-/// ([`Limits`]): its name `$name`, its limits, `--config`'s file read into the settings
+/// ([`Limits`]), the last three those of the field `$group` ([`JobArgs`]) where it is
+/// named: its name `$name`, its limits, `--config`'s file read into the settings
 /// (the flags given win: [`ConfigArgs::merged`]), and its plan — the settings checked
 /// ([`ConfigArgs::validate`]), `--hdf5` refused by a build without writers
 /// ([`FieldArgs::check`]), then the plan of `$args`'s own `fn planned(&self)`. Also
@@ -144,13 +162,9 @@ pub(crate) fn run_observed<'a, const D: usize, const C: usize, M: Stepping<D, C>
 /// [`ConfigArgs::merged`]: crate::config::ConfigArgs::merged
 /// [`ConfigArgs::validate`]: crate::config::ConfigArgs::validate
 macro_rules! configured_program {
-    ($args:ty, $name:literal) => {
+    ($args:ty, $name:literal $(, $group:ident)?) => {
         impl $crate::guard::Program for $args {
-            const NAME: &'static str = $name;
-
-            fn limits(&self) -> $crate::guard::Limits {
-                self.limits
-            }
+            $crate::name_and_limits!($name, $($group.)? limits);
 
             fn configure(
                 mut self,
@@ -162,7 +176,7 @@ macro_rules! configured_program {
 
             fn plan(&self) -> Result<$crate::guard::Plan, $crate::guard::AnyError> {
                 self.config.validate(&self.settings)?;
-                self.fields.check($name)?;
+                self$(.$group)?.fields.check($name)?;
                 self.planned()
             }
         }
@@ -175,9 +189,9 @@ macro_rules! configured_program {
                     out: &self.out,
                     overwrite: self.overwrite,
                     threads: self.threads,
-                    run: &self.run,
-                    fields: &self.fields,
-                    limits: self.limits,
+                    run: &self$(.$group)?.run,
+                    fields: &self$(.$group)?.fields,
+                    limits: self$(.$group)?.limits,
                 }
             }
         }
@@ -194,10 +208,11 @@ pub(crate) use configured_program;
 /// ranks, with the writers if the build has them:
 /// [`guard::main_on_ranks_supplied`](crate::guard::main_on_ranks_supplied)). Each runs the
 /// body `$run(args: $args, prepared, processes)`, `processes` `None` in one process (with
-/// threads, the whole run on the pool: no hand-over per parallel region).
+/// threads, the whole run on the pool: no hand-over per parallel region). The writers go to
+/// the arguments' field `fields`, or to `$group.fields` ([`JobArgs`]) where `$group` is named.
 macro_rules! ranked_entry_points {
     (
-        $args:ty, $run:path;
+        $args:ty, $run:path $(, $group:ident)?;
         $(#[$main:meta])* main,
         $(#[$fields:meta])* main_with_fields,
         $(#[$ranks:meta])* main_on_ranks $(,)?
@@ -212,7 +227,7 @@ macro_rules! ranked_entry_points {
             writers: std::sync::Arc<dyn $crate::fields::FieldWriters>,
         ) -> std::process::ExitCode {
             $crate::guard::main_supplied(
-                |args: &mut $args| args.fields.supply(writers),
+                |args: &mut $args| args$(.$group)?.fields.supply(writers),
                 |args, prepared| $run(args, prepared, None),
             )
         }
@@ -222,7 +237,7 @@ macro_rules! ranked_entry_points {
             processes: &dyn rsf_ranks::Processes,
             writers: $crate::fields::Writers,
         ) -> std::process::ExitCode {
-            let supply = |args: &mut $args| args.fields.supply_if(writers);
+            let supply = |args: &mut $args| args$(.$group)?.fields.supply_if(writers);
             $crate::guard::main_on_ranks_supplied(processes, supply, |a, f, p| {
                 $run(a, f, Some(p))
             })
@@ -231,3 +246,30 @@ macro_rules! ranked_entry_points {
 }
 
 pub(crate) use ranked_entry_points;
+
+/// The two entry points of a program that runs in one process (`seas_bp6`, `seas_bp7`,
+/// `seas_bp8`, `stepover`, `bp5_pair`), named `$name` in their documentation: `main()`
+/// ([`guard::main`](crate::guard::main)) and `main_with_fields(writers)` (with `writers`
+/// of the fault's fields supplied to `--hdf5 N`, [`JobArgs`]' field `fields`: the binaries
+/// of crates/rsf-hdf5, whose writer `crate::fields::$writer` the run calls). Each runs
+/// `$run(args: $args, prepared)`.
+macro_rules! entry_points {
+    ($args:ty, $run:path, $name:literal, $writer:literal) => {
+        #[doc = concat!("The program `", $name, "`.")]
+        pub fn main() -> std::process::ExitCode {
+            $crate::guard::main($run)
+        }
+
+        #[doc = concat!(
+            "The program `", $name, "` with `writers` of the fields (`--hdf5 N`, [`", $writer,
+            "`](crate::fields::", $writer, "); the binary `", $name, "` of crates/rsf-hdf5)."
+        )]
+        pub fn main_with_fields(
+            writers: std::sync::Arc<dyn $crate::fields::FieldWriters>,
+        ) -> std::process::ExitCode {
+            $crate::guard::main_supplied(|args: &mut $args| args.job.fields.supply(writers), $run)
+        }
+    };
+}
+
+pub(crate) use entry_points;

@@ -32,7 +32,7 @@ use std::time::Instant;
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use crate::fields::FaultSize;
-use crate::guard::{number, AnyError, Limits, Plan, Prepared};
+use crate::guard::{number, AnyError, Plan, Prepared};
 use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -71,14 +71,9 @@ pub struct Args {
     /// `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files'
     /// resume log `seas_resume.csv` at the same steps), `--resume FILE` (continues the
     /// files in `--out`: the checkpoint and every file's rows are checked before anything
-    /// is cut), `--allow-change`, `--max-steps N`.
+    /// is cut), `--allow-change`, `--max-steps N`; `--hdf5 N`; the limits.
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp3`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The scene of the settings (its parameters BP1's table).
@@ -93,7 +88,7 @@ fn outputs() -> Vec<String> {
     names
 }
 
-crate::seas_args::configured_program!(Args, "seas_bp3");
+crate::seas_args::configured_program!(Args, "seas_bp3", job);
 
 impl Args {
     /// The plan of the checked settings (issue 87: `--dip 1e-300` ended in "cell 0 is
@@ -142,7 +137,7 @@ impl Args {
 }
 
 crate::seas_args::ranked_entry_points! {
-    Args, run;
+    Args, run, job;
     /// The program `seas_bp3` (`cargo run --release --example seas_bp3 -- --out DIR …`).
     main,
     /// The program `seas_bp3` with `writers` of the fault's fields (`--hdf5 N`,
@@ -213,7 +208,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     // rows up to its step.
     let flags = args.flags();
     let end = settings.end_years * SECONDS_PER_YEAR;
-    let step_cap = folder.step_cap(args.run.max_steps);
+    let step_cap = folder.step_cap(args.job.run.max_steps);
     let session = flags.session(step_cap, settings.fingerprint(), end, &mut ode)?;
     if !root {
         // The same steps as rank 0, no files (no observer here ends a run).

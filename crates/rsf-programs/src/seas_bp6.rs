@@ -28,14 +28,13 @@
 //! `--max-steps N`, `--overwrite`, as every SEAS program.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::fields::FaultSize;
 use crate::fields::{Fault2d, FaultFields2d};
-use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::guard::{number, written, AnyError, Plan, Prepared};
 use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -71,12 +70,7 @@ pub(crate) struct Args {
     #[command(flatten)]
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp6`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The files a run writes into `--out`.
@@ -86,7 +80,7 @@ fn outputs() -> Vec<String> {
     names
 }
 
-crate::seas_args::configured_program!(Args, "seas_bp6");
+crate::seas_args::configured_program!(Args, "seas_bp6", job);
 
 impl Args {
     /// The plan of the checked settings.
@@ -153,17 +147,7 @@ impl Args {
     }
 }
 
-/// The program `seas_bp6`.
-pub fn main() -> ExitCode {
-    crate::guard::main(run)
-}
-
-/// The program `seas_bp6` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`Fault2d`]: antiplane or in-plane as the run's model; the binary
-/// `seas_bp6` of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
-}
+crate::seas_args::entry_points!(Args, run, "seas_bp6", "Fault2d");
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let settings = args.settings;
@@ -308,7 +292,7 @@ impl Common<'_> {
         // The folder's lock (`self.folder`) is held until the run ends.
         let (flags, folder) = (args.flags(), &self.folder);
         let end = args.settings.end_years * BP6_SECONDS_PER_YEAR;
-        let step_cap = folder.step_cap(args.run.max_steps);
+        let step_cap = folder.step_cap(args.job.run.max_steps);
         let session = flags.session(step_cap, self.fingerprint, end, run)?;
         let mut fields = flags.fields_observer(&session, folder.mode(), Fault2d::<C>::make)?;
         let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
@@ -317,7 +301,7 @@ impl Common<'_> {
                 args.settings.profile_interval,
             );
         if session.keeps_resume_log() {
-            output = output.with_resume_log(args.run.checkpoint_every);
+            output = output.with_resume_log(args.job.run.checkpoint_every);
         }
         match session.resumed() {
             Some(c) => output.resume(c.state.step, c.state.time)?,

@@ -21,12 +21,11 @@
 //! `--resume FILE`, `--max-steps N`, `--overwrite`, as every SEAS program.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::guard::{number, written, AnyError, Plan, Prepared};
 use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -55,12 +54,7 @@ pub(crate) struct Args {
     #[command(flatten)]
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp7`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The files a run writes into `--out`.
@@ -70,7 +64,7 @@ fn outputs() -> Vec<String> {
     names
 }
 
-crate::seas_args::configured_program!(Args, "seas_bp7");
+crate::seas_args::configured_program!(Args, "seas_bp7", job);
 
 impl Args {
     /// The plan of the checked settings.
@@ -101,7 +95,7 @@ impl Args {
                     &grid,
                     (l_f, &stations),
                     pairs,
-                    self.limits.max_memory_gb * 1e9,
+                    self.job.limits.max_memory_gb * 1e9,
                 )? + output
             }
         };
@@ -122,17 +116,7 @@ impl Args {
     }
 }
 
-/// The program `seas_bp7`.
-pub fn main() -> ExitCode {
-    crate::guard::main(run)
-}
-
-/// The program `seas_bp7` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d): a poly-vertex at
-/// each cell's centre; the binary `seas_bp7` of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
-}
+crate::seas_args::entry_points!(Args, run, "seas_bp7", "FieldWriters::fault_3d");
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
@@ -156,7 +140,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let mut options = bp7.fault_ode_options(run.tolerance)?;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     options.integrator = run.integrator;
-    let (mut ode, body) = run.fault_ode(options, elimination(&args.limits))?;
+    let (mut ode, body) = run.fault_ode(options, elimination(&args.job.limits))?;
     if let Some(grid) = run.volume_grid()? {
         print_volume(&ode, &grid);
     }

@@ -24,12 +24,11 @@
 //! `--max-steps N`, `--overwrite`, as every SEAS program.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::guard::{number, written, AnyError, Plan, Prepared};
 use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -58,12 +57,7 @@ pub(crate) struct Args {
     #[command(flatten)]
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp8`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The files a run writes into `--out`.
@@ -73,7 +67,7 @@ fn outputs() -> Vec<String> {
     names
 }
 
-crate::seas_args::configured_program!(Args, "seas_bp8");
+crate::seas_args::configured_program!(Args, "seas_bp8", job);
 
 impl Args {
     /// The plan of the checked settings.
@@ -102,7 +96,12 @@ impl Args {
             Some(grid) => {
                 let pairs = (n - 1.0).powi(2);
                 let l_f = SeasBp8::default().l_f;
-                volume_memory(&grid, (l_f, &[]), pairs, self.limits.max_memory_gb * 1e9)? + well
+                volume_memory(
+                    &grid,
+                    (l_f, &[]),
+                    pairs,
+                    self.job.limits.max_memory_gb * 1e9,
+                )? + well
             }
         };
         // Station rows (9 files of 11 columns and global.dat) at most one per step, the
@@ -128,17 +127,7 @@ impl Args {
     }
 }
 
-/// The program `seas_bp8`.
-pub fn main() -> ExitCode {
-    crate::guard::main(run)
-}
-
-/// The program `seas_bp8` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d): a poly-vertex at
-/// each cell's centre; the binary `seas_bp8` of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
-}
+crate::seas_args::entry_points!(Args, run, "seas_bp8", "FieldWriters::fault_3d");
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
@@ -164,7 +153,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         run.dx,
         machine()
     );
-    let mut ode = run.fault_ode(options, friction_pressure, elimination(&args.limits))?;
+    let mut ode = run.fault_ode(options, friction_pressure, elimination(&args.job.limits))?;
     let volume = run.volume_grid()?;
     if let Some(grid) = volume {
         print_volume(&ode, &grid);

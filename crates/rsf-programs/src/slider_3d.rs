@@ -42,7 +42,7 @@ use std::process::ExitCode;
 
 use crate::cli::{PaperSlider3d, SliderArgs};
 use crate::fields::FieldsRun;
-use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{AnyError, Limits, Plan, Prepared, Program};
 use crate::session::{Session, SessionFlags};
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes};
 use clap::Parser;
@@ -129,11 +129,7 @@ pub struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "slider_3d";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    crate::name_and_limits!("slider_3d");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = scene(self)?;
@@ -188,10 +184,8 @@ impl Program for Cli {
                 what,
             )
             .folder(
-                Folder::new("--out", &self.out, &OUTPUTS)
-                    .overwrite(self.folder.overwrite)
-                    .resume_from(self.resume.as_deref())
-                    .allow_change(&self.folder.allow_change),
+                self.folder
+                    .out_folder(&self.out, &OUTPUTS, self.resume.as_deref()),
             ))
     }
 }

@@ -21,14 +21,13 @@
 //! SEAS programs (the files and the catalogue continue byte for byte), `--overwrite`.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
-use crate::network::{run_network, NetworkRun};
+use crate::guard::{number, written, AnyError, Plan, Prepared};
+use crate::network::{run_network, NetworkEnd, NetworkRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf_scenes::{KernelChoice, RunConfig, Stepover, StepoverRun};
@@ -52,25 +51,13 @@ pub struct Args {
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
-    /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
     #[command(flatten)]
-    run: crate::ResumeArgs,
-    /// `--hdf5 N`: the faults' fields (crates/rsf-hdf5's `stepover`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    #[command(flatten)]
-    limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// The files a run writes into `--out`.
 fn outputs(stepover: &Stepover) -> Vec<String> {
-    let mut names: Vec<String> = stepover
-        .stations()
-        .iter()
-        .map(|s| format!("{}_{}.csv", s.fault, s.label))
-        .collect();
-    names.extend(crate::network::NETWORK_FILES.map(String::from));
-    names
+    crate::network::network_outputs(&stepover.stations())
 }
 
 /// Bytes per station row (step, time, slip, slip rate, traction, state).
@@ -78,7 +65,7 @@ fn station_row_bytes() -> f64 {
     csv_row_bytes(6)
 }
 
-crate::seas_args::configured_program!(Args, "stepover");
+crate::seas_args::configured_program!(Args, "stepover", job);
 
 impl Args {
     /// The plan of the checked settings.
@@ -128,17 +115,7 @@ impl Args {
     }
 }
 
-/// The program `stepover` (`cargo run --release --example stepover -- --out DIR …`).
-pub fn main() -> ExitCode {
-    crate::guard::main(run)
-}
-
-/// The program `stepover` with `writers` of the faults' fields (`--hdf5 N`,
-/// [`FieldWriters::fault_2d`](crate::fields::FieldWriters::fault_2d); the binary `stepover`
-/// of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
-}
+crate::seas_args::entry_points!(Args, run, "stepover", "FieldWriters::fault_2d");
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
@@ -176,16 +153,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         w.fault_2d(t)
     })?;
     crate::network::finish(
-        crate::network::NetworkEnd {
-            out: &args.out,
-            outcome: &outcome,
-            evaluations: ode.evaluations(),
-            integrator: crate::IntegratorArgs {
-                integrator: run.integrator,
-            }
-            .summary(Some(ode.integrator_stats())),
-            started: (clock, cpu0),
-        },
+        NetworkEnd::of(&args.out, &outcome, &ode, run.integrator, (clock, cpu0)),
         serde_json::json!({ "program": "stepover", "scene": stepover, "grid": grid }),
         serde_json::json!({ "settings": run.summary() }),
     )

@@ -34,11 +34,7 @@ macro_rules! fixed_size_program {
         }
 
         impl $crate::guard::Program for Cli {
-            const NAME: &'static str = $name;
-
-            fn limits(&self) -> $crate::guard::Limits {
-                self.limits
-            }
+            $crate::name_and_limits!($name);
 
             fn plan(&self) -> Result<$crate::guard::Plan, $crate::guard::AnyError> {
                 Ok($crate::guard::Plan::new().memory($bytes, "(none)", $what))

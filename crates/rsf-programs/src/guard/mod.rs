@@ -393,6 +393,45 @@ pub trait Program: clap::Parser + Send + 'static {
     }
 }
 
+/// The two items every [`Program`](crate::guard::Program) writes alike, inside its `impl
+/// Program for …` block: `const NAME` (the literal `$name`) and `fn limits`, the
+/// arguments' field `limits` ([`Limits`](crate::guard::Limits), flattened into the flags:
+/// `--max-memory-gb`, `--max-output-gb`) or the
+/// field path given after the name (`output.limits` for a field of a flattened group).
+///
+/// ```
+/// use rsf_programs::guard::{AnyError, Limits, Plan, Program};
+///
+/// #[derive(clap::Parser)]
+/// struct Cli {
+///     #[command(flatten)]
+///     limits: Limits,
+/// }
+///
+/// impl Program for Cli {
+///     rsf_programs::name_and_limits!("toy");
+///
+///     fn plan(&self) -> Result<Plan, AnyError> {
+///         Ok(Plan::new())
+///     }
+/// }
+///
+/// assert_eq!(Cli::NAME, "toy");
+/// ```
+#[macro_export]
+macro_rules! name_and_limits {
+    ($name:literal) => {
+        $crate::name_and_limits!($name, limits);
+    };
+    ($name:literal, $($field:ident).+) => {
+        const NAME: &'static str = $name;
+
+        fn limits(&self) -> $crate::guard::Limits {
+            self.$($field).+
+        }
+    };
+}
+
 /// What the guard prepared: the file mode of each folder of the plan (in order) and their
 /// locks, held until this is dropped.
 #[derive(Debug)]

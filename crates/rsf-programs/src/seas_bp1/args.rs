@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use crate::config::ConfigArgs;
 use crate::estimates::seas_output_bytes;
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Limits, Plan};
+use crate::guard::{number, written, AnyError, Plan};
 use clap::Parser;
 use rsf::run_folder::{output_plan, OutputEstimate, OutputPlan};
 use rsf_scenes::{GridEstimate, RunConfig, SeasBp1, SeasBp1Run, SEAS_BP1_STATION_DEPTHS};
@@ -31,16 +31,12 @@ pub struct Args {
     pub(super) threads: usize,
     #[command(flatten)]
     pub(super) header: crate::SeasHeaderArgs,
+    /// The resume flags, `--hdf5 N`, `--max-memory-gb` (nodes and fault operators
+    /// estimated before anything is allocated), `--max-output-gb` (the station files: with
+    /// `--every-step` and without `--max-steps`, the run stops at the step count whose rows
+    /// fit, with a checkpoint).
     #[command(flatten)]
-    pub(super) run: crate::ResumeArgs,
-    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp1`).
-    #[command(flatten)]
-    pub(crate) fields: crate::fields::FieldArgs,
-    /// `--max-memory-gb` (nodes and fault operators estimated before anything is
-    /// allocated), `--max-output-gb` (the station files: with `--every-step` and without
-    /// `--max-steps`, the run stops at the step count whose rows fit, with a checkpoint).
-    #[command(flatten)]
-    pub(super) limits: Limits,
+    pub(crate) job: crate::seas_args::JobArgs,
 }
 
 /// Bytes of the station rows of one step with `--every-step` (12 files of 7 numbers).
@@ -61,12 +57,14 @@ impl Args {
         }
         // With --hdf5 its frames too: one cap for both (FieldArgs::adaptive_bytes).
         let (fixed, fields) = self
+            .job
             .fields
             .adaptive_bytes(self.fault_size()?)
             .unwrap_or((0.0, 0.0));
         let per_step = EVERY_STEP_BYTES + fields;
         let estimate = OutputEstimate {
             bytes: self
+                .job
                 .run
                 .max_steps
                 .map_or(f64::INFINITY, |m| fixed + m as f64 * per_step),
@@ -76,8 +74,8 @@ impl Args {
         };
         Ok(Some(output_plan(
             estimate,
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            self.job.run.max_steps,
+            self.job.limits.max_output_gb,
         )?))
     }
 
@@ -102,7 +100,7 @@ impl Args {
     pub(super) fn step_cap(&self) -> Option<u64> {
         match self.every_step_plan() {
             Ok(Some(plan)) => plan.step_cap,
-            _ => self.run.max_steps,
+            _ => self.job.run.max_steps,
         }
     }
 }
@@ -114,7 +112,7 @@ fn outputs() -> Vec<String> {
     outputs
 }
 
-crate::seas_args::configured_program!(Args, "seas_bp1");
+crate::seas_args::configured_program!(Args, "seas_bp1", job);
 
 impl Args {
     /// The plan of the checked settings.

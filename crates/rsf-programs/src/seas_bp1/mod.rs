@@ -53,7 +53,7 @@ pub use args::Args;
 use run::run;
 
 crate::seas_args::ranked_entry_points! {
-    Args, run;
+    Args, run, job;
     /// The program `seas_bp1` (`cargo run --release --example seas_bp1 -- --out DIR …`).
     main,
     /// The program `seas_bp1` with `writers` of the fault's fields (`--hdf5 N`,

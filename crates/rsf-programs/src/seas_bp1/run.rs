@@ -95,10 +95,10 @@ pub(super) fn run(
     // The folder was refused before anything was computed if it holds another run (of
     // this or of any other rsf program, unless --overwrite) or cannot be written.
     let step_cap = args.step_cap();
-    if let (Some(cap), None) = (step_cap, args.run.max_steps) {
+    if let (Some(cap), None) = (step_cap, args.job.run.max_steps) {
         eprintln!(
             "--every-step: at most {cap} steps (station rows within --max-output-gb {})",
-            args.limits.max_output_gb
+            args.job.limits.max_output_gb
         );
     }
     let t_setup = Instant::now();
