@@ -11,10 +11,10 @@ use crate::error::Result;
 use crate::fault_ode::FaultOde;
 use crate::method_state::MethodState;
 use crate::model::Model;
-use crate::observe::{FaultTractions, Observer};
+use crate::observe::FaultTractions;
 use crate::problem::Problem;
 use crate::report::StepReport;
-use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
+use crate::run::Stepping;
 use crate::simulation::Simulation;
 use crate::simulation_state::SimulationState;
 use crate::switching::SwitchingRun;
@@ -67,16 +67,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
     }
 
-    /// Runs until `until`: [`run_until`](crate::run_until).
-    ///
-    /// # Errors
-    /// As [`run_until`](crate::run_until).
-    pub fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-    ) -> std::result::Result<RunSummary, RunError> {
-        run_until(self, until, observers)
+    crate::run::run_until_method! {
+        /// Runs until `until`: [`run_until`](crate::run_until).
+        ///
+        /// # Errors
+        /// As [`run_until`](crate::run_until).
     }
 }
 
