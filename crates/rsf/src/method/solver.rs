@@ -136,26 +136,7 @@ impl SolverKind {
     }
 }
 
-impl std::fmt::Display for SolverKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for SolverKind {
-    type Err = crate::Error;
-
-    /// A [`name`](SolverKind::name).
-    fn from_str(s: &str) -> crate::Result<Self> {
-        Ok(rsf_numeric::parse_name(
-            "solver",
-            s,
-            &Self::ALL,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+named_choice!(SolverKind, "solver", SolverKind::ALL);
 
 /// Largest number of condensed unknowns (free components on Γ_F) for which
 /// [`SolverKind::Auto`] picks the direct solver. Its set-up stores the discrete harmonic
