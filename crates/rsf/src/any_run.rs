@@ -38,11 +38,7 @@ pub enum Run<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator,
 /// The active method of a [`Run`], as a [`Stepping`].
 macro_rules! dispatch {
     ($self:expr, $m:ident => $e:expr) => {
-        match $self {
-            Run::Implicit($m) => $e,
-            Run::FaultOde($m) => $e,
-            Run::Switching($m) => $e,
-        }
+        dispatch_variants!($self, Run { Implicit, FaultOde, Switching }, $m => $e)
     };
 }
 

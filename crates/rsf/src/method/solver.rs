@@ -441,14 +441,10 @@ impl<const C: usize> VelocitySolver<C> {
     }
 }
 
+/// The solver a [`VelocitySolver`] holds.
 macro_rules! dispatch {
     ($self:ident, $s:ident => $e:expr) => {
-        match $self {
-            VelocitySolver::Tnnmg($s) => $e,
-            VelocitySolver::TnnmgOnRanks($s) => $e,
-            VelocitySolver::Direct($s) => $e,
-            VelocitySolver::GaussSeidel($s) => $e,
-        }
+        dispatch_variants!($self, VelocitySolver { Tnnmg, TnnmgOnRanks, Direct, GaussSeidel }, $s => $e)
     };
 }
 
