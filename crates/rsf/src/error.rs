@@ -474,6 +474,20 @@ pub(crate) fn check_len(
     }
 }
 
+/// `Ok` where the normal stress `sigma_n` (Pa, compressive positive) of frictional node
+/// `node` at `time` (s) is positive and finite, else [`Error::NormalStressNotPositive`].
+pub(crate) fn check_normal_stress(node: usize, time: f64, sigma_n: f64) -> Result<()> {
+    if sigma_n > 0.0 && sigma_n.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::NormalStressNotPositive {
+            node,
+            time,
+            sigma_n,
+        })
+    }
+}
+
 /// A path as error messages quote it (at most about 100 characters).
 pub(crate) fn show_path(path: &std::path::Path) -> String {
     rsf_numeric::excerpt(&path.display().to_string())
