@@ -11,10 +11,10 @@ use crate::error::Result;
 use crate::fault_ode::FaultOde;
 use crate::method_state::MethodState;
 use crate::model::Model;
-use crate::observe::{FaultTractions, Observer};
+use crate::observe::FaultTractions;
 use crate::problem::Problem;
 use crate::report::StepReport;
-use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
+use crate::run::Stepping;
 use crate::simulation::Simulation;
 use crate::simulation_state::SimulationState;
 use crate::switching::SwitchingRun;
@@ -38,11 +38,7 @@ pub enum Run<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator,
 /// The active method of a [`Run`], as a [`Stepping`].
 macro_rules! dispatch {
     ($self:expr, $m:ident => $e:expr) => {
-        match $self {
-            Run::Implicit($m) => $e,
-            Run::FaultOde($m) => $e,
-            Run::Switching($m) => $e,
-        }
+        dispatch_variants!($self, Run { Implicit, FaultOde, Switching }, $m => $e)
     };
 }
 
@@ -67,16 +63,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
     }
 
-    /// Runs until `until`: [`run_until`](crate::run_until).
-    ///
-    /// # Errors
-    /// As [`run_until`](crate::run_until).
-    pub fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-    ) -> std::result::Result<RunSummary, RunError> {
-        run_until(self, until, observers)
+    crate::run::run_until_method! {
+        /// Runs until `until`: [`run_until`](crate::run_until).
+        ///
+        /// # Errors
+        /// As [`run_until`](crate::run_until).
     }
 }
 

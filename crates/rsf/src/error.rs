@@ -459,6 +459,35 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> Error {
     }
 }
 
+/// `Ok` where `len == expected`, else [`Error::InvalidParameter`] named `name` with the
+/// reason `reason(len, expected)` (e.g. a vector of another length than the model's).
+pub(crate) fn check_len(
+    name: &str,
+    len: usize,
+    expected: usize,
+    reason: impl FnOnce(usize, usize) -> String,
+) -> Result<()> {
+    if len == expected {
+        Ok(())
+    } else {
+        Err(invalid(name, reason(len, expected)))
+    }
+}
+
+/// `Ok` where the normal stress `sigma_n` (Pa, compressive positive) of frictional node
+/// `node` at `time` (s) is positive and finite, else [`Error::NormalStressNotPositive`].
+pub(crate) fn check_normal_stress(node: usize, time: f64, sigma_n: f64) -> Result<()> {
+    if sigma_n > 0.0 && sigma_n.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::NormalStressNotPositive {
+            node,
+            time,
+            sigma_n,
+        })
+    }
+}
+
 /// A path as error messages quote it (at most about 100 characters).
 pub(crate) fn show_path(path: &std::path::Path) -> String {
     rsf_numeric::excerpt(&path.display().to_string())

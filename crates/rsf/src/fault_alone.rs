@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use rsf_direct::{CheckpointPolicy, Condensation, Progress};
 use rsf_linalg::Parallelism;
 
-use crate::error::{invalid, Result};
+use crate::error::{check_len, invalid, Result};
 use crate::fault_operator::FaultOperator;
 use rsf_fem::NodalFrames;
 
@@ -145,24 +145,12 @@ pub(crate) fn load_rate<const D: usize, const C: usize>(
         ));
     }
     let m = free_fault_dofs(model).len();
-    if alone.operator.dim() != m {
-        return Err(invalid(
-            "fault_operator",
-            format!(
-                "an operator of {} unknowns for a fault of {m} slip unknowns",
-                alone.operator.dim()
-            ),
-        ));
-    }
-    if alone.plate_velocity.len() != m {
-        return Err(invalid(
-            "plate_velocity",
-            format!(
-                "has {} entries for {m} slip unknowns",
-                alone.plate_velocity.len()
-            ),
-        ));
-    }
+    check_len("fault_operator", alone.operator.dim(), m, |len, m| {
+        format!("an operator of {len} unknowns for a fault of {m} slip unknowns")
+    })?;
+    check_len("plate_velocity", alone.plate_velocity.len(), m, |len, m| {
+        format!("has {len} entries for {m} slip unknowns")
+    })?;
     if let Some(i) = alone.plate_velocity.iter().position(|v| !v.is_finite()) {
         return Err(invalid(
             "plate_velocity",

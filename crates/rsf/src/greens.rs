@@ -57,7 +57,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{check_len, invalid, Error, Result};
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, OperatorOrigin};
 use crate::model::Model;
 use rsf_linalg::Parallelism;
@@ -222,16 +222,9 @@ impl GreensFunctions {
                 });
             }
         }
-        if g.dim() != operator.dim() {
-            return Err(invalid(
-                "greens",
-                format!(
-                    "an operator of {} unknowns for a model of {} slip unknowns",
-                    operator.dim(),
-                    g.dim()
-                ),
-            ));
-        }
+        check_len("greens", operator.dim(), g.dim(), |len, expected| {
+            format!("an operator of {len} unknowns for a model of {expected} slip unknowns")
+        })?;
         match operator.slip_directions() {
             Some(directions) => g.with_directions(directions.to_vec()),
             None => Ok(g),

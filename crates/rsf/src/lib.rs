@@ -50,6 +50,17 @@
 //! ```
 #![warn(missing_docs)]
 
+/// `match $value { $enum::$variant($m) => $e, … }` over the listed one-field variants: the
+/// same expression `$e` of each variant's value `$m`, as an enum of methods or of solvers
+/// forwards a call to the one it holds.
+macro_rules! dispatch_variants {
+    ($value:expr, $enum:ident { $($variant:ident),+ }, $m:ident => $e:expr) => {
+        match $value {
+            $($enum::$variant($m) => $e,)+
+        }
+    };
+}
+
 mod any_run;
 pub mod checkpoint;
 mod error;

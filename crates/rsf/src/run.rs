@@ -122,6 +122,23 @@ pub fn run_until<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
     })
 }
 
+/// The inherent `run_until` of a method (a type that is [`Stepping<D, C>`], with its `D`
+/// and `C` in scope), with the docs given: [`run_until`] on `self`, so that a user needs
+/// no trait in scope to run it.
+macro_rules! run_until_method {
+    ($(#[$doc:meta])*) => {
+        $(#[$doc])*
+        pub fn run_until(
+            &mut self,
+            until: $crate::run::Until,
+            observers: &mut [&mut dyn $crate::observe::Observer<D, C>],
+        ) -> std::result::Result<$crate::run::RunSummary, $crate::run::RunError> {
+            $crate::run::run_until(self, until, observers)
+        }
+    };
+}
+pub(crate) use run_until_method;
+
 /// The steps of [`run_until`], accumulating into `summary` and the total of fixed point
 /// iterations.
 fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(

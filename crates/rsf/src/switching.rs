@@ -15,9 +15,9 @@ use crate::method_state::MethodState;
 pub use crate::method_state::{Phase, SwitchingStats};
 use crate::model::fault::block_norm;
 use crate::model::Model;
-use crate::observe::{FaultTractions, Observer};
+use crate::observe::FaultTractions;
 use crate::report::StepReport;
-use crate::run::{run_until, time_reached, RunError, RunSummary, Stepping, Until};
+use crate::run::{time_reached, Stepping};
 use crate::simulation::Simulation;
 use crate::simulation_state::SimulationState;
 
@@ -167,18 +167,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         Stepping::state(self).time
     }
 
-    /// Runs until `until`, switching as the options say: the one run loop of every
-    /// method, [`run_until`].
-    ///
-    /// # Errors
-    /// A [`RunError`] with the first error of a step, an observer or a switch, and the
-    /// summary of the steps before it.
-    pub fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-    ) -> std::result::Result<RunSummary, RunError> {
-        run_until(self, until, observers)
+    crate::run::run_until_method! {
+        /// Runs until `until`, switching as the options say: the one run loop of every
+        /// method, [`run_until`](crate::run_until).
+        ///
+        /// # Errors
+        /// A [`RunError`](crate::RunError) with the first error of a step, an observer or a
+        /// switch, and the summary of the steps before it.
     }
 
     /// A checkpoint of the whole state: the phase, the statistics and the active method's

@@ -41,6 +41,18 @@ fn asinh() -> impl Strategy<Value = (AsinhPotential, f64)> {
     (ln_vm(), kappa()).prop_map(|(l, k)| (AsinhPotential::new(l, k), l))
 }
 
+/// The Dieterich–Ruina and the asinh potential of the same `ln V_m = l` and `κ = k`, and `l`.
+fn both(l: f64, k: f64) -> (DieterichRuinaPotential, AsinhPotential, f64) {
+    (
+        DieterichRuinaPotential::new(l, k),
+        AsinhPotential::new(l, k),
+        l,
+    )
+}
+fn dr_and_asinh() -> impl Strategy<Value = (DieterichRuinaPotential, AsinhPotential, f64)> {
+    (ln_vm(), kappa()).prop_map(|(l, k)| both(l, k))
+}
+
 /// Midpoint convexity `ϕ((x+y)/2) ≤ (ϕ(x)+ϕ(y))/2`, up to rounding of the values.
 fn check_convex<P: ConvexPotential>(p: &P, x: f64, y: f64) -> Result<(), TestCaseError> {
     let (fx, fy, fm) = (p.value(x), p.value(y), p.value(0.5 * (x + y)));
@@ -161,36 +173,36 @@ fn pos(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
 
+    /// Both potentials at each `(ln V_m, κ)`: convex.
     #[test]
-    fn dr_convex((p, l) in dr(), y in -40.0..40.0_f64, z in -40.0..40.0_f64) {
+    fn dr_and_asinh_convex((p, q, l) in dr_and_asinh(), y in -40.0..40.0_f64, z in -40.0..40.0_f64) {
         let (a, b) = ((l + y).min(6.9).exp(), (l + z).min(6.9).exp());
         check_convex(&p, a, b)?;
         check_convex(&p, 0.0, b)?;
+        check_convex(&q, a, b)?;
+        check_convex(&q, 0.0, b)?;
+    }
+
+    /// Both potentials at each `(ln V_m, κ)`: the exact minimiser.
+    #[test]
+    fn dr_and_asinh_minimizer((p, q, l) in dr_and_asinh(), a in pos(-3.0, 12.0), r in pos(-30.0, 8.0), w in pos(-6.0, 1.0)) {
+        check_minimizer(&p, a, r, w, p.kappa(), l)?;
+        check_minimizer(&q, a, r, w, q.kappa(), l)?;
+    }
+
+    /// Both potentials at each `(ln V_m, κ)`: the minimiser for `r = a V_m e^d`, from below
+    /// the cutoff to far above.
+    #[test]
+    fn dr_and_asinh_minimizer_near_cutoff((p, q, l) in (-700.0..-10.0_f64, kappa()).prop_map(|(l, k)| both(l, k)),
+                                          a in pos(-3.0, 12.0), d in -5.0..30.0_f64, w in pos(-6.0, 1.0)) {
+        check_minimizer_near_cutoff(&p, (p.kappa(), l), a, d, w)?;
+        check_minimizer_near_cutoff(&q, (q.kappa(), l), a, d, w)?;
     }
 
     #[test]
     fn dr_derivatives((p, l) in dr(), d in -40.0..40.0_f64) {
         let v = (l + d).min(6.9).exp();
         check_derivatives(&p, v, (p.kappa(), l))?;
-    }
-
-    #[test]
-    fn dr_minimizer((p, l) in dr(), a in pos(-3.0, 12.0), r in pos(-30.0, 8.0), w in pos(-6.0, 1.0)) {
-        check_minimizer(&p, a, r, w, p.kappa(), l)?;
-    }
-
-    #[test]
-    fn dr_minimizer_near_cutoff((p, l) in (-700.0..-10.0_f64, kappa()).prop_map(|(l, k)| (DieterichRuinaPotential::new(l, k), l)),
-                                a in pos(-3.0, 12.0), d in -5.0..30.0_f64, w in pos(-6.0, 1.0)) {
-        // r = a V_m e^d: from below the cutoff to far above
-        check_minimizer_near_cutoff(&p, (p.kappa(), l), a, d, w)?;
-    }
-
-    #[test]
-    fn asinh_convex((p, l) in asinh(), y in -40.0..40.0_f64, z in -40.0..40.0_f64) {
-        let (a, b) = ((l + y).min(6.9).exp(), (l + z).min(6.9).exp());
-        check_convex(&p, a, b)?;
-        check_convex(&p, 0.0, b)?;
     }
 
     #[test]
@@ -202,17 +214,6 @@ proptest! {
     fn asinh_derivatives_rel((p, l) in asinh(), d in -40.0..40.0_f64) {
         let v = (l + d).min(6.9).exp();
         check_derivatives(&p, v, (p.kappa(), f64::NEG_INFINITY))?;
-    }
-
-    #[test]
-    fn asinh_minimizer((p, l) in asinh(), a in pos(-3.0, 12.0), r in pos(-30.0, 8.0), w in pos(-6.0, 1.0)) {
-        check_minimizer(&p, a, r, w, p.kappa(), l)?;
-    }
-
-    #[test]
-    fn asinh_minimizer_near_cutoff((p, l) in (-700.0..-10.0_f64, kappa()).prop_map(|(l, k)| (AsinhPotential::new(l, k), l)),
-                                   a in pos(-3.0, 12.0), d in -5.0..30.0_f64, w in pos(-6.0, 1.0)) {
-        check_minimizer_near_cutoff(&p, (p.kappa(), l), a, d, w)?;
     }
 
     #[test]

@@ -17,9 +17,8 @@ pub use crate::fault_operator::{
 use crate::method_state::FaultOdeState;
 use crate::model::Model;
 use crate::normal_stress::ScaledTractions;
-use crate::observe::Observer;
 use crate::problem::Problem;
-use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
+use crate::run::Stepping;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
@@ -66,8 +65,8 @@ pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, St
 /// touched during the steps. Observers see the same [`StepView`](crate::StepView) as in a
 /// [`Simulation`](crate::Simulation): `u`, `v` on Γ_F and the fixed dofs always, the rest
 /// of the field (one sparse forward and backward sweep for each of `u` and `v`) only if
-/// an observer [reads the volume](Observer::reads_volume) — else it is NaN, except at the
-/// few vertices observers [ask for](Observer::volume_vertices) (surface stations: one
+/// an observer [reads the volume](crate::Observer::reads_volume) — else it is NaN, except at the
+/// few vertices observers [ask for](crate::Observer::volume_vertices) (surface stations: one
 /// dot product per component with precomputed rows of the extension operator).
 ///
 /// Suited to quasi-dynamic earthquake-cycle problems (SEAS BP1): explicit steps are
@@ -122,7 +121,8 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     /// With a pore pressure: the laws at `σ̄_n − p` of the last step.
     effective_tractions: Option<crate::pore_pressure::EffectiveTractions<L>>,
     /// The vertices off Γ_F that observers read without the volume
-    /// ([`Observer::volume_vertices`]), computed after every step.
+    /// ([`Observer::volume_vertices`](crate::Observer::volume_vertices)), computed after
+    /// every step.
     probe: Option<VolumeProbe>,
 }
 
@@ -248,23 +248,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.rk.stats()
     }
 
-    /// Runs until `until`, showing every accepted step to the observers: the one run loop
-    /// of every method, [`run_until`]. A step's report counts its
-    /// right-hand-side evaluations in `evaluations` (rejected attempts included); it has
-    /// no fixed point and no velocity solver (their counts are 0).
-    ///
-    /// # Errors
-    /// A [`RunError`] with the first step or observer error (e.g. a step below
-    /// `runge_kutta.dt_min`: [`rsf_time::Error::StepTooSmall`]) and the summary of the
-    /// steps before it; [`Error::InvalidParameter`] named `until` for a non-finite end.
-    ///
-    /// [`Error::InvalidParameter`]: crate::Error::InvalidParameter
-    pub fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-    ) -> std::result::Result<RunSummary, RunError> {
-        run_until(self, until, observers)
+    crate::run::run_until_method! {
+        /// Runs until `until`, showing every accepted step to the observers: the one run loop
+        /// of every method, [`run_until`](crate::run_until). A step's report counts its
+        /// right-hand-side evaluations in `evaluations` (rejected attempts included); it has
+        /// no fixed point and no velocity solver (their counts are 0).
+        ///
+        /// # Errors
+        /// A [`RunError`] with the first step or observer error (e.g. a step below
+        /// `runge_kutta.dt_min`: [`rsf_time::Error::StepTooSmall`]) and the summary of the
+        /// steps before it; [`Error::InvalidParameter`] named `until` for a non-finite end.
+        ///
+        /// [`RunError`]: crate::RunError
+        /// [`Error::InvalidParameter`]: crate::Error::InvalidParameter
     }
 
     /// A checkpoint of the whole state (common and the fault ODE's own), for

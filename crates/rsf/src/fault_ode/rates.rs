@@ -18,6 +18,28 @@ use crate::ranks::SharedEvaluation;
 
 use super::linger::linger;
 
+/// The nodes' solves of the rates `$rates` ([`Rates`]) with its data `$d`
+/// ([`FaultRates`]) at the loading rate `$speed` and the states `$alpha`: at the normal
+/// stresses and pore pressures of the evaluation. A macro, so that the fields of `$d` it
+/// does not borrow stay free to borrow mutably.
+macro_rules! node_solves {
+    ($rates:expr, $d:expr, $speed:expr, $alpha:expr) => {
+        NodeSolves {
+            friction: $rates.friction,
+            state_laws: $rates.state_laws,
+            uses_state: $rates.uses_state,
+            first: &$d.first,
+            weights: &$d.weights,
+            fixed_velocity: &$d.fixed_velocity,
+            eta: &$d.eta,
+            speed: $speed,
+            alpha: $alpha,
+            scale: $d.normal.as_ref().map(|n| (&$d.sigma[..], n.initial())),
+            effective: $d.pressure.as_ref().map(|p| &p.effective[..]),
+        }
+    };
+}
+
 /// What the right-hand side needs besides the laws.
 pub(super) struct FaultRates<const C: usize> {
     pub(super) body: Body<C>,
@@ -135,19 +157,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         if let Some(pr) = &mut d.pressure {
             pr.lower(t, d.normal.as_ref().map(|_| &d.sigma[..]))?;
         }
-        let solves = NodeSolves {
-            friction: self.friction,
-            state_laws: self.state_laws,
-            uses_state: self.uses_state,
-            first: &d.first,
-            weights: &d.weights,
-            fixed_velocity: &d.fixed_velocity,
-            eta: &d.eta,
-            speed,
-            alpha,
-            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
-            effective: d.pressure.as_ref().map(|p| &p.effective[..]),
-        };
+        let solves = node_solves!(self, d, speed, alpha);
         if let (Some(shared), true) = (&mut d.shared, shared_path) {
             let load = Loading {
                 g0: &d.g0,
@@ -246,19 +256,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             *r = g0 + big_g * g1;
         }
         d.operator.subtract_product(u, &mut d.r, d.par)?;
-        let solves = NodeSolves {
-            friction: self.friction,
-            state_laws: self.state_laws,
-            uses_state: self.uses_state,
-            first: &d.first,
-            weights: &d.weights,
-            fixed_velocity: &d.fixed_velocity,
-            eta: &d.eta,
-            speed: d.history.value(t),
-            alpha,
-            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
-            effective: d.pressure.as_ref().map(|p| &p.effective[..]),
-        };
+        let solves = node_solves!(self, d, d.history.value(t), alpha);
         let root = f64::EPSILON.sqrt();
         for k in 0..nodes {
             let (a, b) = (d.first[k], d.first[k + 1]);

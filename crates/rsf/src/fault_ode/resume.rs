@@ -43,20 +43,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         if !(state.time.is_finite() && state.time >= 0.0) {
             return value("time", 0, state.time, "finite and >= 0 (s)");
         }
-        let o = self.options.runge_kutta;
-        let dt = memory.controller.dt;
-        if !(dt >= o.dt_min && dt <= o.dt_max) {
-            return Err(invalid(
-                "controller",
-                format!("next step {dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
-            ));
-        }
-        let m = self.rates.body.dim();
-        let mut y = self.y.clone();
-        for (yi, &dof) in y.iter_mut().zip(self.rates.body.interface_dofs()) {
-            *yi = state.kinematics.u[dof];
-        }
-        y[m..].copy_from_slice(&state.alpha);
+        self.check_dt("controller", "next step ", memory.controller.dt)?;
+        let y = self.unknowns_of(state);
         if let Some(i) = y.iter().position(|x| !x.is_finite()) {
             return value("u on Γ_F or alpha", i, y[i], "finite");
         }
@@ -78,6 +66,31 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.state.kinematics.a.fill(0.0);
         self.interior_is_nan = false;
         self.fill_state(false)
+    }
+
+    /// [`Error::InvalidParameter`] named `name` (the step `dt` in s, `what` before it in
+    /// the message) unless `dt` is in the Runge–Kutta options' `[dt_min, dt_max]`.
+    fn check_dt(&self, name: &'static str, what: &str, dt: f64) -> Result<()> {
+        let o = self.options.runge_kutta;
+        if !(dt >= o.dt_min && dt <= o.dt_max) {
+            return Err(invalid(
+                name,
+                format!("{what}{dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The ODE's unknowns of `state` (of this model's sizes): the displacement on Γ_F's
+    /// free components, then α.
+    fn unknowns_of(&self, state: &SimulationState) -> Vec<f64> {
+        let m = self.rates.body.dim();
+        let mut y = self.y.clone();
+        for (yi, &dof) in y.iter_mut().zip(self.rates.body.interface_dofs()) {
+            *yi = state.kinematics.u[dof];
+        }
+        y[m..].copy_from_slice(&state.alpha);
+        y
     }
 
     /// Continues from `state` (of a model with the same frictional boundary, e.g. a
@@ -106,19 +119,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         if !(state.time.is_finite() && state.time >= 0.0) {
             return Err(invalid("state", format!("time {} s", state.time)));
         }
-        let o = self.options.runge_kutta;
-        if !(dt >= o.dt_min && dt <= o.dt_max) {
-            return Err(invalid(
-                "dt",
-                format!("{dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
-            ));
-        }
-        let m = self.rates.body.dim();
-        let mut y = self.y.clone();
-        for (yi, &dof) in y.iter_mut().zip(self.rates.body.interface_dofs()) {
-            *yi = state.kinematics.u[dof];
-        }
-        y[m..].copy_from_slice(&state.alpha);
+        self.check_dt("dt", "", dt)?;
+        let y = self.unknowns_of(state);
         if let Some(i) = y.iter().position(|x| !x.is_finite()) {
             return Err(invalid("state", format!("unknown {i} on Γ_F is {}", y[i])));
         }

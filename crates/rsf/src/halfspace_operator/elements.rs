@@ -20,7 +20,7 @@ use super::nodes::{
 use crate::error::Result;
 use crate::fault_kernel::Kernel;
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport};
-use crate::model::Model;
+use crate::model::{FrictionalBoundary, Model};
 
 /// Relative tolerance (times an element's size, `√area`) of "at the element's centre";
 /// a node's normal must be within `1e-6` rad of its element's (either sign).
@@ -112,8 +112,16 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-fn check_options(options: &ElementOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
-    check_kernel(options.epsilon, options.leaf_size)
+/// The start of a set-up on `model`: `options` checked, the clock started, the nodes (by
+/// `nodes`: [`alone_nodes`] or [`internal_fault_nodes`]) and the frictional boundary.
+fn start<'m>(
+    model: &'m Model<3, 3>,
+    options: &ElementOptions,
+    nodes: fn(&Model<3, 3>) -> std::result::Result<Vec<Node>, HalfSpaceOperatorError>,
+) -> std::result::Result<(Instant, Vec<Node>, &'m FrictionalBoundary), HalfSpaceOperatorError> {
+    check_kernel(options.epsilon, options.leaf_size)?;
+    let clock = Instant::now();
+    Ok((clock, nodes(model)?, &model.frictional_boundary))
 }
 
 /// `A_k` of `node` on an element of frame `frame`, or the angle between their normals.
@@ -145,10 +153,7 @@ impl ElementOperator {
         set: &ElementSet<E>,
         options: &ElementOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
-        check_options(options)?;
-        let clock = Instant::now();
-        let nodes = alone_nodes(model)?;
-        let fb = &model.frictional_boundary;
+        let (clock, nodes, fb) = start(model, options, alone_nodes)?;
         if nodes.len() != set.n_elements() {
             return Err(HalfSpaceOperatorError::ElementCount {
                 nodes: nodes.len(),
@@ -192,10 +197,7 @@ impl ElementOperator {
         options: &ElementOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
-        check_options(options)?;
-        let clock = Instant::now();
-        let nodes = internal_fault_nodes(model)?;
-        let fb = &model.frictional_boundary;
+        let (clock, nodes, fb) = start(model, options, internal_fault_nodes)?;
         let finder = CentreFinder::new(set);
         let mut taken = vec![false; set.n_elements()];
         let mut element = Vec::with_capacity(nodes.len());

@@ -48,26 +48,11 @@ impl FixedPointScheme {
     }
 }
 
-impl std::fmt::Display for FixedPointScheme {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for FixedPointScheme {
-    type Err = crate::Error;
-
-    /// A [`name`](FixedPointScheme::name).
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(rsf_numeric::parse_name(
-            "fixed point scheme",
-            s,
-            &Self::ALL,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+named_choice!(
+    FixedPointScheme,
+    "fixed point scheme",
+    FixedPointScheme::ALL
+);
 
 /// How the next state iterate is formed from `α^ν` and `G(α^ν)`.
 #[derive(Debug, Clone, Copy, PartialEq)]

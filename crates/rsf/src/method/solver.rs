@@ -136,26 +136,7 @@ impl SolverKind {
     }
 }
 
-impl std::fmt::Display for SolverKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for SolverKind {
-    type Err = crate::Error;
-
-    /// A [`name`](SolverKind::name).
-    fn from_str(s: &str) -> crate::Result<Self> {
-        Ok(rsf_numeric::parse_name(
-            "solver",
-            s,
-            &Self::ALL,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+named_choice!(SolverKind, "solver", SolverKind::ALL);
 
 /// Largest number of condensed unknowns (free components on Γ_F) for which
 /// [`SolverKind::Auto`] picks the direct solver. Its set-up stores the discrete harmonic
@@ -460,14 +441,10 @@ impl<const C: usize> VelocitySolver<C> {
     }
 }
 
+/// The solver a [`VelocitySolver`] holds.
 macro_rules! dispatch {
     ($self:ident, $s:ident => $e:expr) => {
-        match $self {
-            VelocitySolver::Tnnmg($s) => $e,
-            VelocitySolver::TnnmgOnRanks($s) => $e,
-            VelocitySolver::Direct($s) => $e,
-            VelocitySolver::GaussSeidel($s) => $e,
-        }
+        dispatch_variants!($self, VelocitySolver { Tnnmg, TnnmgOnRanks, Direct, GaussSeidel }, $s => $e)
     };
 }
 

@@ -29,27 +29,14 @@ pub enum StateIntegrator {
     ConstantSlipRate,
 }
 
-impl std::fmt::Display for StateIntegrator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for StateIntegrator {
-    type Err = crate::Error;
-
-    /// A [`name`](StateIntegrator::name).
-    fn from_str(s: &str) -> Result<Self> {
-        let all = [Self::BackwardEuler, Self::ConstantSlipRate];
-        Ok(rsf_numeric::parse_name(
-            "state integrator",
-            s,
-            &all,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+named_choice!(
+    StateIntegrator,
+    "state integrator",
+    [
+        StateIntegrator::BackwardEuler,
+        StateIntegrator::ConstantSlipRate
+    ]
+);
 
 impl StateIntegrator {
     /// Name as in scene files and on the command line.

@@ -5,7 +5,7 @@
 use rsf_fem::SparseMatrix;
 
 use super::Model;
-use crate::error::{invalid, Result};
+use crate::error::{check_len, invalid, Result};
 
 impl<const D: usize, const C: usize> Model<D, C> {
     /// Of a model of some columns ([`columns`](Self::columns)): one flag per vertex, and no
@@ -14,16 +14,12 @@ impl<const D: usize, const C: usize> Model<D, C> {
         let Some(keep) = &self.columns else {
             return Ok(());
         };
-        if keep.len() != self.vertices.len() {
-            return Err(invalid(
-                "columns",
-                format!(
-                    "has {} flags, the model {} vertices",
-                    keep.len(),
-                    self.vertices.len()
-                ),
-            ));
-        }
+        check_len(
+            "columns",
+            keep.len(),
+            self.vertices.len(),
+            |len, expected| format!("has {len} flags, the model {expected} vertices"),
+        )?;
         for (name, m) in self.matrices() {
             let cp = m.symbolic().col_ptr();
             if let Some(j) = (0..m.ncols()).find(|&j| !keep[j / C] && cp[j + 1] > cp[j]) {

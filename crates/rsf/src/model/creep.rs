@@ -8,101 +8,106 @@ use crate::error::{invalid, Result};
 /// a larger one would open or close the fault, whose normal jump is tied.
 pub const MAX_CREEP_NORMAL_FRACTION: f64 = 1e-6;
 
-/// The prescribed slip rate of a creeping split pair of a fault inside the body (m/s,
-/// times the loading history `g(t)`): the jump `v⁺ − v⁻` of the velocity, in the pair's
-/// frame `(t₁, t₂, −n)` (2-D: `(t, −n)`; the scalar field: the one component).
-///
-/// Every tangential component of a creeping pair is fixed — in 3-D both, so slip on the
-/// creeping part is a vector of prescribed direction, never free along `t₂`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum CreepRate<const D: usize> {
-    /// The components `(V₁, V₂)` along the pair's tangents `t₁`, `t₂` (m/s): in 2-D and for
-    /// a scalar field `V₂` must be 0 (`V₁` along the fault's tangent `t`, or the scalar
-    /// jump); in 3-D `t₁` is the projection of
-    /// [`fault_tangent`](crate::ModelBuilder::fault_tangent) on the fault.
-    InFrame([f64; 2]),
-    /// The Cartesian slip-rate vector `v⁺ − v⁻` (m/s) for a vector field: its tangential
-    /// components in each pair's frame are prescribed. Its part along the pair's normal
-    /// must be at most [`MAX_CREEP_NORMAL_FRACTION`] of its length (the fault does not
-    /// open); not for a scalar field.
-    Cartesian([f64; D]),
+/// Declares a prescribed jump of a split pair (`$amount` in `$unit`; errors name
+/// `$parameter` and speak of a `$what`): the enum of its two forms, in the pair's frame
+/// (`InFrame`) or Cartesian, with `rake` and `in_frame` (through [`Jump`]).
+macro_rules! prescribed_jump {
+    (
+        $(#[$doc:meta])*
+        pub enum $name:ident($amount:ident in $unit:literal, $parameter:literal, $what:literal) {
+            $(#[$in_frame:meta])*
+            InFrame,
+            $(#[$cartesian:meta])*
+            Cartesian,
+        }
+    ) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub enum $name<const D: usize> {
+            $(#[$in_frame])*
+            InFrame([f64; 2]),
+            $(#[$cartesian])*
+            Cartesian([f64; D]),
+        }
+
+        impl<const D: usize> $name<D> {
+            #[doc = concat!(
+                "`", stringify!($amount), "` (", $unit, ") along the direction at ",
+                "`rake_degrees` from `t₁` towards `t₂` (the seismological rake when `t₁` is ",
+                "the strike and `t₂` the up-dip direction): `InFrame([", stringify!($amount),
+                " cos r, ", stringify!($amount), " sin r])`."
+            )]
+            pub fn rake($amount: f64, rake_degrees: f64) -> Self {
+                let r = rake_degrees.to_radians();
+                Self::InFrame([$amount * r.cos(), $amount * r.sin()])
+            }
+
+            /// The prescribed components of the jump in the pair's frame: the first `C − 1`
+            /// (vector field) or the one (scalar field) of the returned array; `frame` is the
+            /// pair's (row-major, columns `(t₁, …, −n)`).
+            ///
+            /// # Errors
+            #[doc = concat!(
+                "[`Error::InvalidParameter`](crate::Error::InvalidParameter) named `",
+                $parameter, "` for a non-finite ", $what, ", a second tangential component ",
+                "in 2-D or for a scalar field, a Cartesian ", $what, " on a scalar field or ",
+                "with a normal part, naming the position `x`."
+            )]
+            pub(crate) fn in_frame<const C: usize>(
+                &self,
+                frame: &[[f64; D]; D],
+                x: &[f64; D],
+            ) -> Result<[f64; C]> {
+                let jump = match *self {
+                    Self::InFrame(v) => Jump::InFrame(v),
+                    Self::Cartesian(v) => Jump::Cartesian(v),
+                };
+                jump.in_frame(frame, x, ($parameter, $what, $unit))
+            }
+        }
+    };
 }
 
-impl<const D: usize> CreepRate<D> {
-    /// `rate` (m/s) along the direction at `rake_degrees` from `t₁` towards `t₂` (the
-    /// seismological rake when `t₁` is the strike and `t₂` the up-dip direction):
-    /// `InFrame([rate cos r, rate sin r])`.
-    pub fn rake(rate: f64, rake_degrees: f64) -> Self {
-        let r = rake_degrees.to_radians();
-        Self::InFrame([rate * r.cos(), rate * r.sin()])
-    }
-
-    /// The prescribed components of the jump in the pair's frame: the first `C − 1`
-    /// (vector field) or the one (scalar field) of the returned array; `frame` is the
-    /// pair's (row-major, columns `(t₁, …, −n)`).
+prescribed_jump! {
+    /// The prescribed slip rate of a creeping split pair of a fault inside the body (m/s,
+    /// times the loading history `g(t)`): the jump `v⁺ − v⁻` of the velocity, in the pair's
+    /// frame `(t₁, t₂, −n)` (2-D: `(t, −n)`; the scalar field: the one component).
     ///
-    /// # Errors
-    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `internal_creep`
-    /// for a non-finite rate, a second tangential component in 2-D or for a scalar field,
-    /// a Cartesian rate on a scalar field or with a normal part, naming the position `x`.
-    pub(crate) fn in_frame<const C: usize>(
-        &self,
-        frame: &[[f64; D]; D],
-        x: &[f64; D],
-    ) -> Result<[f64; C]> {
-        let jump = match *self {
-            Self::InFrame(v) => Jump::InFrame(v),
-            Self::Cartesian(v) => Jump::Cartesian(v),
-        };
-        jump.in_frame(frame, x, ("internal_creep", "creep rate", "m/s"))
+    /// Every tangential component of a creeping pair is fixed — in 3-D both, so slip on the
+    /// creeping part is a vector of prescribed direction, never free along `t₂`.
+    pub enum CreepRate(rate in "m/s", "internal_creep", "creep rate") {
+        /// The components `(V₁, V₂)` along the pair's tangents `t₁`, `t₂` (m/s): in 2-D and
+        /// for a scalar field `V₂` must be 0 (`V₁` along the fault's tangent `t`, or the
+        /// scalar jump); in 3-D `t₁` is the projection of
+        /// [`fault_tangent`](crate::ModelBuilder::fault_tangent) on the fault.
+        InFrame,
+        /// The Cartesian slip-rate vector `v⁺ − v⁻` (m/s) for a vector field: its tangential
+        /// components in each pair's frame are prescribed. Its part along the pair's normal
+        /// must be at most [`MAX_CREEP_NORMAL_FRACTION`] of its length (the fault does not
+        /// open); not for a scalar field.
+        Cartesian,
     }
 }
 
-/// The prescribed slip of a split pair of a fault inside the body (m): the jump `u⁺ − u⁻`
-/// of the displacement, set by
-/// [`internal_slip_at`](crate::ModelBuilder::internal_slip_at) — a kinematic source (a
-/// dislocation), in the pair's frame `(t₁, t₂, −n)` (2-D: `(t, −n)`; the scalar field: the
-/// one component) or as a Cartesian vector tangent to the fault. Every tangential component
-/// of such a pair is fixed: in the static problem (the model's initial equilibrium,
-/// [`Model::initial_displacement`](crate::Model::initial_displacement)) its jump is the
-/// slip, and it does not slip further (its slip rate is 0, or a creep rate of
-/// [`internal_creep_at`](crate::ModelBuilder::internal_creep_at) at the same pair).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PrescribedSlip<const D: usize> {
-    /// The components `(s₁, s₂)` along the pair's tangents `t₁`, `t₂` (m): in 2-D and for a
-    /// scalar field `s₂` must be 0; in 3-D `t₁` is the projection of
-    /// [`fault_tangent`](crate::ModelBuilder::fault_tangent) on the fault.
-    InFrame([f64; 2]),
-    /// The Cartesian slip vector `u⁺ − u⁻` (m) for a vector field; its part along the
-    /// pair's normal must be at most [`MAX_CREEP_NORMAL_FRACTION`] of its length (the
-    /// fault does not open); not for a scalar field.
-    Cartesian([f64; D]),
-}
-
-impl<const D: usize> PrescribedSlip<D> {
-    /// `slip` (m) along the direction at `rake_degrees` from `t₁` towards `t₂` (the
-    /// seismological rake when `t₁` is the strike and `t₂` the up-dip direction):
-    /// `InFrame([slip cos r, slip sin r])`.
-    pub fn rake(slip: f64, rake_degrees: f64) -> Self {
-        let r = rake_degrees.to_radians();
-        Self::InFrame([slip * r.cos(), slip * r.sin()])
-    }
-
-    /// The prescribed components of the jump in the pair's frame, as
-    /// [`CreepRate::in_frame`].
-    ///
-    /// # Errors
-    /// As [`CreepRate::in_frame`], named `internal_slip`.
-    pub(crate) fn in_frame<const C: usize>(
-        &self,
-        frame: &[[f64; D]; D],
-        x: &[f64; D],
-    ) -> Result<[f64; C]> {
-        let jump = match *self {
-            Self::InFrame(v) => Jump::InFrame(v),
-            Self::Cartesian(v) => Jump::Cartesian(v),
-        };
-        jump.in_frame(frame, x, ("internal_slip", "slip", "m"))
+prescribed_jump! {
+    /// The prescribed slip of a split pair of a fault inside the body (m): the jump
+    /// `u⁺ − u⁻` of the displacement, set by
+    /// [`internal_slip_at`](crate::ModelBuilder::internal_slip_at) — a kinematic source (a
+    /// dislocation), in the pair's frame `(t₁, t₂, −n)` (2-D: `(t, −n)`; the scalar field:
+    /// the one component) or as a Cartesian vector tangent to the fault. Every tangential
+    /// component of such a pair is fixed: in the static problem (the model's initial
+    /// equilibrium, [`Model::initial_displacement`](crate::Model::initial_displacement)) its
+    /// jump is the slip, and it does not slip further (its slip rate is 0, or a creep rate
+    /// of [`internal_creep_at`](crate::ModelBuilder::internal_creep_at) at the same pair).
+    pub enum PrescribedSlip(slip in "m", "internal_slip", "slip") {
+        /// The components `(s₁, s₂)` along the pair's tangents `t₁`, `t₂` (m): in 2-D and for
+        /// a scalar field `s₂` must be 0; in 3-D `t₁` is the projection of
+        /// [`fault_tangent`](crate::ModelBuilder::fault_tangent) on the fault.
+        InFrame,
+        /// The Cartesian slip vector `u⁺ − u⁻` (m) for a vector field; its part along the
+        /// pair's normal must be at most [`MAX_CREEP_NORMAL_FRACTION`] of its length (the
+        /// fault does not open); not for a scalar field.
+        Cartesian,
     }
 }
 

@@ -12,7 +12,7 @@ use rsf_nonsmooth::{NoNonlinearity, NonsmoothSolver, SolveReport, SolveWatch, St
 use rsf_tnnmg::{Tnnmg, TnnmgOptions};
 
 use super::Model;
-use crate::error::{invalid, Error, Result};
+use crate::error::{check_len, invalid, Error, Result};
 
 /// Largest number of dofs of a 3-D model whose initial equilibrium is solved by sparse
 /// Cholesky; larger 3-D models with a hierarchy use multigrid. Measured on the 3-D slider:
@@ -270,16 +270,9 @@ impl<const C: usize> StaticSolver<C> {
     /// non-convergence within its iteration cap or time limit (both say the iterations and
     /// the last correction) or a non-finite `u`.
     pub fn solve(&mut self, u: &mut [f64]) -> Result<Option<SolveReport>> {
-        if u.len() != self.load.len() {
-            return Err(invalid(
-                "u",
-                format!(
-                    "has {} entries, the model {} dofs",
-                    u.len(),
-                    self.load.len()
-                ),
-            ));
-        }
+        check_len("u", u.len(), self.load.len(), |len, expected| {
+            format!("has {len} entries, the model {expected} dofs")
+        })?;
         match &mut self.inner {
             Inner::Direct(s) => {
                 s.solve(&self.load, u)?;

@@ -46,7 +46,7 @@ pub use schur_columns::{SchurColumns, SchurColumnsReport};
 
 use rsf_fem::{DofTransform, NodalFrames, SparseMatrix};
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{check_len, invalid, Error, Result};
 
 /// An assembled model: matrices, loads, constraints, hierarchy and frictional boundary,
 /// independent of the friction law, state law, time integrator and solver.
@@ -179,16 +179,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// columns' terms `v_j (M v)_j` only: the parts of the processes add up to the whole
     /// energy (to round-off).
     pub fn kinetic_energy(&self, v: &[f64]) -> Result<f64> {
-        if v.len() != self.num_dofs() {
-            return Err(invalid(
-                "v",
-                format!(
-                    "has {} entries, the model {} dofs",
-                    v.len(),
-                    self.num_dofs()
-                ),
-            ));
-        }
+        check_len("v", v.len(), self.num_dofs(), |len, expected| {
+            format!("has {len} entries, the model {expected} dofs")
+        })?;
         let mass = self
             .mass
             .as_ref()
@@ -289,16 +282,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// # Errors
     /// [`Error::InvalidParameter`] if `x` does not have [`num_dofs`](Self::num_dofs) entries.
     pub fn to_cartesian(&self, x: &[f64]) -> Result<Vec<f64>> {
-        if x.len() != self.num_dofs() {
-            return Err(invalid(
-                "x",
-                format!(
-                    "has {} entries, the model {} dofs",
-                    x.len(),
-                    self.num_dofs()
-                ),
-            ));
-        }
+        check_len("x", x.len(), self.num_dofs(), |len, expected| {
+            format!("has {len} entries, the model {expected} dofs")
+        })?;
         let t = self.transform();
         if t.is_identity() {
             return Ok(x.to_vec());

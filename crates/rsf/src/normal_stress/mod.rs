@@ -12,7 +12,7 @@ use rsf_hmatrix::{ErrorMeasure, HMatrix, HOptions, Points};
 use rsf_linalg::Parallelism;
 use rsf_numeric::normal_component;
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{check_normal_stress, invalid, Error, Result};
 use crate::fault_kernel::{compress, Kernel};
 use crate::fault_operator::{FaultKernel, KernelReport};
 use crate::model::Model;
@@ -496,13 +496,7 @@ impl NormalCoupling {
         for (k, s) in sigma.iter_mut().enumerate() {
             let r = *s;
             *s = self.sigma0[k] - r / self.weights[k];
-            if !(*s > 0.0 && s.is_finite()) {
-                return Err(Error::NormalStressNotPositive {
-                    node: k,
-                    time,
-                    sigma_n: *s,
-                });
-            }
+            check_normal_stress(k, time, *s)?;
         }
         Ok(())
     }
@@ -613,13 +607,7 @@ impl NormalReactions {
         self.reactions(model, kin, sigma);
         for (k, s) in sigma.iter_mut().enumerate() {
             *s = self.sigma0[k] - (*s - self.r0[k]) / self.weights[k];
-            if !(*s > 0.0 && s.is_finite()) {
-                return Err(Error::NormalStressNotPositive {
-                    node: k,
-                    time,
-                    sigma_n: *s,
-                });
-            }
+            check_normal_stress(k, time, *s)?;
             weights[k] = self.weights[k] * (*s / self.sigma0[k]);
         }
         Ok(())

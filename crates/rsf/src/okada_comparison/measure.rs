@@ -37,10 +37,26 @@ pub(crate) fn measure(
         .ok_or_else(|| ComparisonError::Setup("the model has no fault inside the body".into()))?;
     let v = &model.initial_displacement;
     let u = model.to_cartesian(v)?;
+    let c = Compared {
+        model,
+        f,
+        d: dislocation,
+        w: windows,
+    };
     let jump = jump_error(model, f, &u, dislocation);
-    let surface = surface_error(model, f, &u, dislocation, windows)?;
-    let traction = traction_error(model, f, v, dislocation, windows)?;
+    let surface = surface_error(&c, &u)?;
+    let traction = traction_error(&c, v)?;
     Ok((jump, surface, traction))
+}
+
+/// What [`measure`] compares: the model `model` of the fault `f` against the dislocation
+/// `d` in the windows `w`.
+#[derive(Clone, Copy)]
+struct Compared<'a> {
+    model: &'a Model<3>,
+    f: &'a InternalFault<3>,
+    d: &'a Dislocation,
+    w: &'a Windows<'a>,
 }
 
 /// The largest `|u⁺ − u⁻ − s(x)|` over the pairs (m).
@@ -58,13 +74,8 @@ fn jump_error(model: &Model<3>, f: &InternalFault<3>, u: &[f64], d: &Dislocation
 /// The largest `|u − u_Okada|` over the surface vertices in the window, relative to the
 /// largest `|u_Okada|` there; a split vertex (a surface trace) compared with Okada's field
 /// `offset` off the fault on its own side.
-fn surface_error(
-    model: &Model<3>,
-    f: &InternalFault<3>,
-    u: &[f64],
-    d: &Dislocation,
-    w: &Windows<'_>,
-) -> Result<f64> {
+fn surface_error(c: &Compared<'_>, u: &[f64]) -> Result<f64> {
+    let Compared { model, f, d, w } = *c;
     let (mut err, mut scale) = (0.0f64, 0.0f64);
     let mut seen = 0;
     for (q, x) in model.vertices.iter().enumerate() {
@@ -97,13 +108,8 @@ fn surface_error(
 /// `f'_j = Rᵀ f⁺` (the plus copy's force; `f⁺ + f⁻ = 0` at equilibrium, whatever the
 /// sharing of the jump), `f⁺ = ∫ φ σ n⁺_out dS` with the plus side's outward normal
 /// `−n`, so `t_FE = R f'_j / w` (`w` the node's lumped weight).
-fn traction_error(
-    model: &Model<3>,
-    f: &InternalFault<3>,
-    v: &[f64],
-    d: &Dislocation,
-    w: &Windows<'_>,
-) -> Result<f64> {
+fn traction_error(c: &Compared<'_>, v: &[f64]) -> Result<f64> {
+    let Compared { model, f, d, w } = *c;
     let mut force = vec![0.0; v.len()];
     rsf_fem::spmv_add(model.stiffness.as_ref(), 1.0, v, &mut force);
     let weights = fault_weights(model, f);

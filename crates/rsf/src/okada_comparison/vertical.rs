@@ -115,6 +115,17 @@ pub(crate) enum Held {
     At(Rc<Dislocation>),
 }
 
+impl Held {
+    /// At `dislocation`'s displacement where `at_okada`, else at rest.
+    fn at_okada(dislocation: &Rc<Dislocation>, at_okada: bool) -> Self {
+        if at_okada {
+            Held::At(dislocation.clone())
+        } else {
+            Held::Zero
+        }
+    }
+}
+
 /// The model of the Cartesian `slip(x)` prescribed at every split pair of the internal
 /// fault `polygon` of `builder`'s mesh, the far faces (distance `far`) held as `held`,
 /// its static problem solved by `solver` (the build's equilibrium; not solved with
@@ -193,11 +204,7 @@ pub fn compare_held(
     let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
 
     let dislocation = Rc::new(Dislocation::uniform(fault.rectangle()?, fault.slip)?);
-    let held = if at_okada {
-        Held::At(dislocation.clone())
-    } else {
-        Held::Zero
-    };
+    let held = Held::at_okada(&dislocation, at_okada);
     let slip = fault.slip;
     let model = slip_model(
         ModelBuilder::new(cuboid_from_coordinates(&xs, &ys, &zs)?),
@@ -242,11 +249,7 @@ pub fn compare_refined(
     let h = mesh.0 / f64::from(1u32 << mesh.1);
     let reference = fault.shrunk(h);
     let dislocation = Rc::new(Dislocation::uniform(reference.rectangle()?, fault.slip)?);
-    let held = if at_okada {
-        Held::At(dislocation.clone())
-    } else {
-        Held::Zero
-    };
+    let held = Held::at_okada(&dislocation, at_okada);
     let slip = fault.slip;
     let model = refined_model(fault, mesh, far, (held, solver), move |_| slip, true)?;
     let (jump, surface, traction) = reference.compare(&model, &dislocation, far)?;

@@ -17,8 +17,9 @@
 //!
 //! Where `σ̄_n − p ≤ 0` (the fluid would open the fault) a Runge–Kutta stage is outside
 //! the problem's domain and the step is retried smaller; at an accepted time, or in the
-//! implicit scheme, it is [`Error::NormalStressNotPositive`]
-//! naming the node and the time — unless the field holds the effective stress above a
+//! implicit scheme, it is
+//! [`Error::NormalStressNotPositive`](crate::Error::NormalStressNotPositive) naming the
+//! node and the time — unless the field holds the effective stress above a
 //! floor ([`EffectiveStressFloor`], SEAS BP8-PW's policy).
 
 mod closed_form;
@@ -39,7 +40,7 @@ pub use surface::{
 pub use surface_closed_form::SurfaceInjectionPressure;
 pub use surface_diffusion::{SurfaceDiffusion, MAX_SURFACE_CELLS, MAX_WELL_MODES};
 
-use crate::error::{Error, Result};
+use crate::error::{check_normal_stress, Result};
 use rsf_friction::{ConvexPotential, FrictionLaw};
 
 /// A pore-pressure change `p(x, t)` on a fault (Pa, positive: it lowers the effective
@@ -183,19 +184,13 @@ impl<const D: usize> NodePressures for PressureAtNodes<D> {
     /// pressure), checked in node order.
     ///
     /// # Errors
-    /// [`Error::NormalStressNotPositive`] at the first node where the effective normal
-    /// stress is `≤ 0` or not finite.
+    /// [`Error::NormalStressNotPositive`](crate::Error::NormalStressNotPositive) at the first
+    /// node where the effective normal stress is `≤ 0` or not finite.
     fn lower(&self, t: f64, sigma: &mut [f64], scratch: &mut [f64]) -> Result<()> {
         self.field.pressures(t, &self.points, scratch);
         for (k, (s, p)) in sigma.iter_mut().zip(scratch.iter()).enumerate() {
             *s -= p;
-            if !(*s > 0.0 && s.is_finite()) {
-                return Err(Error::NormalStressNotPositive {
-                    node: k,
-                    time: t,
-                    sigma_n: *s,
-                });
-            }
+            check_normal_stress(k, t, *s)?;
         }
         Ok(())
     }
@@ -259,7 +254,8 @@ impl<L: FrictionLaw> PressureWork<L> {
     /// the pressure: the laws' own, or one from slip).
     ///
     /// # Errors
-    /// [`Error::NormalStressNotPositive`] as [`NodePressures::lower`].
+    /// [`Error::NormalStressNotPositive`](crate::Error::NormalStressNotPositive) as
+    /// [`NodePressures::lower`].
     pub(crate) fn lower_from(&mut self, t: f64, base: Option<&[f64]>) -> Result<()> {
         self.sigma
             .copy_from_slice(base.unwrap_or(self.sigma_laws.as_slice()));

@@ -66,6 +66,12 @@ impl FaultPlane {
     pub fn vector(&self, w: [f64; 2]) -> [f64; 3] {
         [0, 1, 2].map(|i| w[0] * self.axis_u[i] + w[1] * self.axis_v[i])
     }
+
+    /// The model's vector at `x` (m) of the in-plane vector field `field(u, v)`: the
+    /// [`vector`](Self::vector) of `field` at the [`coordinates`](Self::coordinates) of `x`.
+    pub fn vector_at(&self, x: &[f64; 3], field: impl FnOnce([f64; 2]) -> [f64; 2]) -> [f64; 3] {
+        self.vector(field(self.coordinates(x)))
+    }
 }
 
 fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {

@@ -632,10 +632,7 @@ impl PorePressure<3> for SurfaceDiffusion {
         });
     }
     fn darcy_velocity_vector(&self, x: &[f64; 3], t: f64) -> Option<[f64; 3]> {
-        Some(
-            self.plane
-                .vector(self.darcy_at(self.plane.coordinates(x), t)),
-        )
+        Some(self.plane.vector_at(x, |uv| self.darcy_at(uv, t)))
     }
     fn breakpoints(&self) -> Vec<f64> {
         vec![self.injection.injection.shut_in]

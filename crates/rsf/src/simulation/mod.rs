@@ -26,7 +26,7 @@ use crate::model::fault::block_norm;
 use crate::model::Model;
 use crate::observe::{FaultTractions, Observer};
 use crate::report::StepReport;
-use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
+use crate::run::{RunError, RunSummary, Stepping, Until};
 use crate::simulation_state::SimulationState;
 
 use step::Stepper;
@@ -223,23 +223,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         self.run_until(Until::Steps(steps), observers)
     }
 
-    /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow)
-    /// (after every observer has seen that step), then calls every observer's
-    /// [`finish`](Observer::finish) — also when the run fails: the one run loop of every
-    /// method, [`run_until`]. The summary says why the run ended
-    /// ([`Termination`](crate::Termination)).
-    ///
-    /// # Errors
-    /// A [`RunError`] with the first step or observer error (or, after the steps, the first
-    /// error of a `finish`) and the summary of the steps taken; the simulation keeps the
-    /// state of the last successful step. [`Error::InvalidParameter`] named `until` for a
-    /// non-finite end time.
-    pub fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-    ) -> std::result::Result<RunSummary, RunError> {
-        run_until(self, until, observers)
+    crate::run::run_until_method! {
+        /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow)
+        /// (after every observer has seen that step), then calls every observer's
+        /// [`finish`](Observer::finish) — also when the run fails: the one run loop of every
+        /// method, [`run_until`](crate::run_until). The summary says why the run ended
+        /// ([`Termination`](crate::Termination)).
+        ///
+        /// # Errors
+        /// A [`RunError`] with the first step or observer error (or, after the steps, the first
+        /// error of a `finish`) and the summary of the steps taken; the simulation keeps the
+        /// state of the last successful step. [`Error::InvalidParameter`] named `until` for a
+        /// non-finite end time.
     }
 
     /// A checkpoint of the state, for [`restore`](Self::restore).

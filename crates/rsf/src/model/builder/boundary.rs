@@ -3,7 +3,7 @@
 //! loading history of every prescribed velocity.
 
 use super::part::Part;
-use super::settings::{Absorbing, Dirichlet};
+use super::settings::{Absorbing, Dirichlet, VectorField};
 use super::ModelBuilder;
 use crate::model::loading::TimeFunction;
 
@@ -17,16 +17,28 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// A Dirichlet part fixing only the listed components (e.g. a roller: the normal
     /// component only); component `c` moves with `velocity[c] · g(t)`.
     pub fn dirichlet_components(
-        mut self,
+        self,
         part: impl Into<Part<D>>,
         components: &[usize],
         velocity: [f64; C],
     ) -> Self {
+        self.with_dirichlet(part.into(), components.to_vec(), velocity, None)
+    }
+
+    /// Adds the Dirichlet part `part` fixing `components`, moving with `velocity · g(t)`
+    /// (m/s) or held at `displacement(x)` (m) in the initial equilibrium.
+    fn with_dirichlet(
+        mut self,
+        part: Part<D>,
+        components: Vec<usize>,
+        velocity: [f64; C],
+        displacement: Option<VectorField<D, C>>,
+    ) -> Self {
         self.boundary.dirichlet.push(Dirichlet {
-            part: part.into(),
-            components: components.to_vec(),
+            part,
+            components,
             velocity,
-            displacement: None,
+            displacement,
         });
         self
     }
@@ -75,17 +87,12 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// different displacements, named `dirichlet_displacement` in
     /// [`build_columns`](Self::build_columns) (its equilibrium starts from zero data).
     pub fn dirichlet_displacement(
-        mut self,
+        self,
         part: impl Into<Part<D>>,
         displacement: impl Fn(&[f64; D]) -> [f64; C] + 'static,
     ) -> Self {
-        self.boundary.dirichlet.push(Dirichlet {
-            part: part.into(),
-            components: (0..C).collect(),
-            velocity: [0.0; C],
-            displacement: Some(Box::new(displacement)),
-        });
-        self
+        let held = Some(Box::new(displacement) as VectorField<D, C>);
+        self.with_dirichlet(part.into(), (0..C).collect(), [0.0; C], held)
     }
 
     /// A Neumann part with traction `t(x)` (Pa; N/m per unit thickness in 2D). Parts

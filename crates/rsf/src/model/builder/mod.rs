@@ -15,7 +15,7 @@ pub(crate) mod stages;
 use rsf_fem::{DofTransform, MeshHierarchy, SimplexMesh};
 
 use super::Model;
-use crate::error::{invalid, Result};
+use crate::error::{check_len, invalid, Result};
 use settings::{Body, Boundary, Faults};
 use stages::constraints::constrain;
 use stages::domain::Domain;
@@ -288,15 +288,9 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         equilibrium: impl FnOnce(&super::EquilibriumSystem<'_>) -> Result<Vec<f64>>,
     ) -> Result<Model<D, C>> {
         let nv = self.mesh().num_vertices();
-        if keep.len() != nv {
-            return Err(invalid(
-                "keep",
-                format!(
-                    "has {} flags, the finest mesh {nv} vertices (one flag per vertex)",
-                    keep.len()
-                ),
-            ));
-        }
+        check_len("keep", keep.len(), nv, |len, nv| {
+            format!("has {len} flags, the finest mesh {nv} vertices (one flag per vertex)")
+        })?;
         if !self.fault.internal.is_empty() {
             return Err(invalid(
                 "internal_fault",
@@ -431,16 +425,9 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             },
             held.as_deref(),
         )?;
-        if u0.len() != load.len() {
-            return Err(invalid(
-                "equilibrium",
-                format!(
-                    "returned {} entries, the model has {} dofs",
-                    u0.len(),
-                    load.len()
-                ),
-            ));
-        }
+        check_len("equilibrium", u0.len(), load.len(), |len, expected| {
+            format!("returned {len} entries, the model has {expected} dofs")
+        })?;
         ended(BuildStage::Equilibrium);
 
         let energy_norm = matrices.energy_norm_or_stiffness();

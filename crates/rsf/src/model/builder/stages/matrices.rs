@@ -80,18 +80,42 @@ impl Matrices {
     /// # Errors
     /// [`crate::Error::Fem`] if `keep` does not have one flag per node.
     pub fn node_columns(self, keep: &[bool]) -> Result<Self> {
-        let columns = |a: &SparseMatrix| rsf_fem::node_columns(a, keep).map_err(crate::Error::from);
-        let absorbing = match self.absorbing {
+        self.map(|a| Ok(rsf_fem::node_columns(&a, keep)?), Ok)
+    }
+
+    /// Every matrix through `matrix` — the dashpots', then `M`, `K` and the energy norm,
+    /// one at a time, each original dropped once mapped (the peak is the matrices plus one
+    /// map's work; issue 55) — and the dashpots' far-field force (`n` entries, or empty)
+    /// through `force`: what a stage that transforms the system does to its matrices.
+    ///
+    /// # Errors
+    /// The first error of `matrix` or `force`.
+    pub fn map(
+        self,
+        mut matrix: impl FnMut(SparseMatrix) -> Result<SparseMatrix>,
+        force: impl FnOnce(Vec<f64>) -> Result<Vec<f64>>,
+    ) -> Result<Self> {
+        let Self {
+            stiffness,
+            mass,
+            energy_norm,
+            absorbing,
+        } = self;
+        let absorbing = match absorbing {
             Some(mut a) => {
-                a.damping = columns(&a.damping)?;
+                a.damping = matrix(a.damping)?;
+                a.far_field_force = force(std::mem::take(&mut a.far_field_force))?;
                 Some(a)
             }
             None => None,
         };
+        let mass = mass.map(&mut matrix).transpose()?;
+        let stiffness = matrix(stiffness)?;
+        let energy_norm = energy_norm.map(&mut matrix).transpose()?;
         Ok(Self {
-            stiffness: columns(&self.stiffness)?,
-            mass: self.mass.as_ref().map(columns).transpose()?,
-            energy_norm: self.energy_norm.as_ref().map(columns).transpose()?,
+            stiffness,
+            mass,
+            energy_norm,
             absorbing,
         })
     }

@@ -2,9 +2,9 @@
 //! (`s` the slip factor), so every block on Γ_F is the slip: `K/s²`, `M/s²`, dashpots
 //! `C/s²`, `F/s` and the far-field force `C w / s`.
 
-use rsf_fem::{combine, SparseMatrix};
+use rsf_fem::combine;
 
-use super::matrices::{Matrices, System};
+use super::matrices::System;
 use crate::error::Result;
 
 impl System {
@@ -16,38 +16,19 @@ impl System {
         if s == 1.0 {
             return Ok(self);
         }
-        let Self {
-            matrices:
-                Matrices {
-                    stiffness,
-                    mass,
-                    energy_norm,
-                    absorbing,
-                },
-            mut load,
-        } = self;
+        let Self { matrices, mut load } = self;
         let k = 1.0 / (s * s);
-        let scaled = |a: &SparseMatrix| combine(0.0, a, k, a).map_err(rsf_fem::Error::from);
         for l in &mut load {
             *l /= s;
         }
-        let absorbing = match absorbing {
-            Some(mut a) => {
-                a.damping = scaled(&a.damping)?;
-                // C̃ (s w) = C w / s.
-                a.far_field_force.iter_mut().for_each(|f| *f /= s);
-                Some(a)
-            }
-            None => None,
-        };
-        Ok(Self {
-            matrices: Matrices {
-                mass: mass.as_ref().map(scaled).transpose()?,
-                stiffness: scaled(&stiffness)?,
-                energy_norm: energy_norm.as_ref().map(scaled).transpose()?,
-                absorbing,
+        let matrices = matrices.map(
+            |a| Ok(combine(0.0, &a, k, &a).map_err(rsf_fem::Error::from)?),
+            // C̃ (s w) = C w / s.
+            |mut force| {
+                force.iter_mut().for_each(|f| *f /= s);
+                Ok(force)
             },
-            load,
-        })
+        )?;
+        Ok(Self { matrices, load })
     }
 }

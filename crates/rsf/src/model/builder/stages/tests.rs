@@ -478,6 +478,18 @@ pub(crate) fn assert_columns_of<const D: usize, const C: usize>(
     assert!(whole.check_part_of(part).is_err() || keep.iter().all(|&k| k));
 }
 
+/// The models of every keep-set's columns of `builder()`'s model (the equilibrium given:
+/// the whole model's) against the whole model.
+fn assert_every_keep_set<const C: usize>(builder: impl Fn() -> ModelBuilder<2, C>) {
+    let whole = builder().build().unwrap();
+    for keep in keep_sets(whole.num_nodes()) {
+        let part = builder()
+            .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
+            .unwrap();
+        assert_columns_of(&whole, &part, &keep);
+    }
+}
+
 /// All, none, the first half and a pseudo-random half of `n` nodes.
 pub(crate) fn keep_sets(n: usize) -> Vec<Vec<bool>> {
     let mut x = 57u64;
@@ -567,13 +579,7 @@ fn a_user_medium_and_the_antiplane_medium_on_columns() {
             .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
             .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
     };
-    let whole = plain().build().unwrap();
-    for keep in keep_sets(whole.num_nodes()) {
-        let part = plain()
-            .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
-            .unwrap();
-        assert_columns_of(&whole, &part, &keep);
-    }
+    assert_every_keep_set(plain);
     let antiplane = || {
         let flat = rectangle([0.0; 2], [2.0, 1.0], 5, 3, Diagonal::Forward).unwrap();
         ModelBuilder::scalar_refined(flat, 1)
@@ -583,13 +589,7 @@ fn a_user_medium_and_the_antiplane_medium_on_columns() {
             .absorbing_boundary(Part::predicate("right", |x| x[0] > 2.0 - 1e-9))
             .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
     };
-    let whole = antiplane().build().unwrap();
-    for keep in keep_sets(whole.num_nodes()) {
-        let part = antiplane()
-            .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
-            .unwrap();
-        assert_columns_of(&whole, &part, &keep);
-    }
+    assert_every_keep_set(antiplane);
 }
 
 /// `build_columns` refuses a keep-set of another length, a fault inside the body and an

@@ -5,7 +5,7 @@
 
 use rsf_fem::DofTransform;
 
-use super::matrices::{Matrices, System};
+use super::matrices::System;
 use crate::error::Result;
 
 impl System {
@@ -18,42 +18,19 @@ impl System {
         if t.is_identity() {
             return Ok(self);
         }
-        let Self {
-            matrices:
-                Matrices {
-                    stiffness,
-                    mass,
-                    energy_norm,
-                    absorbing,
-                },
-            load,
-        } = self;
-        let congruence = |a: &rsf_fem::SparseMatrix| t.congruence(a);
-        let absorbing = match absorbing {
-            Some(mut a) => {
-                a.damping = congruence(&a.damping)?;
-                if !a.far_field_force.is_empty() {
-                    a.far_field_force = t.pull_back(&a.far_field_force)?;
+        let matrices = self.matrices.map(
+            |a| Ok(t.congruence(&a)?),
+            |force| {
+                if force.is_empty() {
+                    Ok(force)
+                } else {
+                    Ok(t.pull_back(&force)?)
                 }
-                Some(a)
-            }
-            None => None,
-        };
-        // One matrix at a time, each original dropped once transformed: the peak is the
-        // matrices plus one congruence's work (issue 55: this stage was a split 3-D model's
-        // peak).
-        let transformed = |a: rsf_fem::SparseMatrix| t.congruence(&a);
-        let mass = mass.map(transformed).transpose()?;
-        let stiffness = transformed(stiffness)?;
-        let energy_norm = energy_norm.map(transformed).transpose()?;
-        Ok(Self {
-            matrices: Matrices {
-                mass,
-                stiffness,
-                energy_norm,
-                absorbing,
             },
-            load: t.pull_back(&load)?,
+        )?;
+        Ok(Self {
+            matrices,
+            load: t.pull_back(&self.load)?,
         })
     }
 }
