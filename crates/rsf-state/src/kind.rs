@@ -40,27 +40,17 @@ impl StateLawKind {
     }
 }
 
-impl std::fmt::Display for StateLawKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for StateLawKind {
-    type Err = Error;
-
-    /// A [`name`](StateLawKind::name) or the aliases `dieterich`, `ruina`.
-    fn from_str(s: &str) -> Result<Self> {
-        let aliases = [("dieterich", Self::Aging), ("ruina", Self::Slip)];
-        Ok(rsf_numeric::parse_name(
-            "state law",
-            s,
-            &Self::ALL,
-            Self::name,
-            &aliases,
-        )?)
-    }
-}
+// `Display` (the name) and `FromStr` (a name, or the aliases `dieterich` and `ruina`).
+rsf_numeric::display_and_parse_by_name!(
+    StateLawKind,
+    "state law",
+    Error,
+    StateLawKind::ALL,
+    [
+        ("dieterich", StateLawKind::Aging),
+        ("ruina", StateLawKind::Slip)
+    ]
+);
 
 /// A built-in state law chosen at run time: one type for all of them (see the module
 /// documentation). Every [`StateLaw`] method forwards to the law, so results are those of

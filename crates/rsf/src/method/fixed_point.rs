@@ -48,9 +48,10 @@ impl FixedPointScheme {
     }
 }
 
-named_choice!(
+rsf_numeric::display_and_parse_by_name!(
     FixedPointScheme,
     "fixed point scheme",
+    crate::Error,
     FixedPointScheme::ALL
 );
 

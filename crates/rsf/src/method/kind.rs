@@ -36,29 +36,14 @@ impl MethodKind {
     }
 }
 
-impl std::fmt::Display for MethodKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for MethodKind {
-    type Err = crate::Error;
-
-    /// A [`name`](MethodKind::name); `runge-kutta` is accepted for `fault-ode`.
-    fn from_str(s: &str) -> crate::Result<Self> {
-        if s == "runge-kutta" {
-            return Ok(Self::FaultOde);
-        }
-        Ok(rsf_numeric::parse_name(
-            "method",
-            s,
-            &Self::ALL,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+// `Display` (the name) and `FromStr` (a name; `runge-kutta` is accepted for `fault-ode`).
+rsf_numeric::display_and_parse_by_name!(
+    MethodKind,
+    "method",
+    crate::Error,
+    MethodKind::ALL,
+    [("runge-kutta", MethodKind::FaultOde)]
+);
 
 #[cfg(test)]
 mod tests {

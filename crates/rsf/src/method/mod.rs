@@ -2,28 +2,6 @@
 //! velocity integrator, the velocity solver, the fixed point iteration, the step control
 //! and the state update, described by [`MethodOptions`] and built into a [`Method`].
 
-/// `Display` as the choice's `name()`, and `FromStr` of one of the names of the array `$all`
-/// ([`rsf_numeric::parse_name`], errors naming `$what`): the impls of a choice that users
-/// name in scene files and on command lines.
-macro_rules! named_choice {
-    ($t:ident, $what:literal, $all:expr) => {
-        impl std::fmt::Display for $t {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
-        impl std::str::FromStr for $t {
-            type Err = crate::Error;
-
-            #[doc = concat!("A [`name`](", stringify!($t), "::name).")]
-            fn from_str(s: &str) -> crate::Result<Self> {
-                Ok(rsf_numeric::parse_name($what, s, &$all, Self::name, &[])?)
-            }
-        }
-    };
-}
-
 pub(crate) mod fixed_point;
 pub(crate) mod kind;
 pub(crate) mod solver;

@@ -136,7 +136,7 @@ impl SolverKind {
     }
 }
 
-named_choice!(SolverKind, "solver", SolverKind::ALL);
+rsf_numeric::display_and_parse_by_name!(SolverKind, "solver", crate::Error, SolverKind::ALL);
 
 /// Largest number of condensed unknowns (free components on Γ_F) for which
 /// [`SolverKind::Auto`] picks the direct solver. Its set-up stores the discrete harmonic

@@ -29,9 +29,10 @@ pub enum StateIntegrator {
     ConstantSlipRate,
 }
 
-named_choice!(
+rsf_numeric::display_and_parse_by_name!(
     StateIntegrator,
     "state integrator",
+    crate::Error,
     [
         StateIntegrator::BackwardEuler,
         StateIntegrator::ConstantSlipRate
