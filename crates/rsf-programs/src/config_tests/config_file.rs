@@ -6,15 +6,6 @@ use rsf_scenes::{Bp7Law, SeasBp7Run};
 use crate::guard::{parse_from, Program};
 use crate::seas_bp7::Args;
 
-/// A folder of its own with the file `name` holding `text`.
-fn file(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsf-config-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
 /// `seas_bp7 --config CONFIG` and the flags `more` after it, parsed: the program's
 /// arguments, or the parser's error as its message.
 fn bp7_with_config(config: &std::path::Path, more: &[&str]) -> Result<Args, String> {
@@ -29,6 +20,14 @@ fn bp7_with_config(config: &std::path::Path, more: &[&str]) -> Result<Args, Stri
 /// unknown key, a mistyped value and a refused value named as written.
 #[test]
 fn a_config_file_sets_what_no_flag_gives() {
+    let dir = std::env::temp_dir().join(format!("rsf-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The file `name` of the folder, holding `text`.
+    let file = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
     let path = file("bp7.toml", "law = \"slip\"\ndx = 20\nend_years = 2.5\n");
     let args = bp7_with_config(&path, &["--dx", "40"]).unwrap();
     let run = args.settings;
@@ -56,7 +55,5 @@ fn a_config_file_sets_what_no_flag_gives() {
     let args = bp7_with_config(&refused, &["--dx", "3"]).unwrap();
     let e = args.plan().err().unwrap().to_string();
     assert!(e.starts_with("--dx 3: must be in [5, 400]"), "{e}");
-    for f in [path, unknown, typed, refused] {
-        let _ = std::fs::remove_dir_all(f.parent().unwrap());
-    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -112,33 +112,19 @@ fn stepover_run() -> impl Strategy<Value = StepoverRun> {
         )
 }
 
-fn bp3_run() -> impl Strategy<Value = SeasBp3Run> {
-    (
-        (1.0f64..90.0, 1e-9f64..1e5),
-        (1e-3f64..1e4, 60.00006f64..1e5, 1.0f64..2.0),
-        1e-10f64..0.1,
-        kernel(),
-        select(OdeIntegrator::ALL.to_vec()),
-    )
-        .prop_map(
-            |(
-                (dip, end_years),
-                (dx, domain_km, ratio),
-                tolerance,
-                (kernel, kernel_epsilon),
-                integrator,
-            )| SeasBp3Run {
-                dip,
-                end_years,
-                dx,
-                domain_km,
-                ratio,
-                tolerance,
-                kernel,
-                kernel_epsilon,
-                integrator,
-            },
-        )
+prop_compose! {
+    fn bp3_run()(
+        dip in 1.0f64..90.0,
+        end_years in 1e-9f64..1e5,
+        (dx, domain_km, ratio) in (1e-3f64..1e4, 60.00006f64..1e5, 1.0f64..2.0),
+        tolerance in 1e-10f64..0.1,
+        (kernel, kernel_epsilon) in kernel(),
+        integrator in select(OdeIntegrator::ALL.to_vec()),
+    ) -> SeasBp3Run {
+        SeasBp3Run {
+            dip, end_years, dx, domain_km, ratio, tolerance, kernel, kernel_epsilon, integrator,
+        }
+    }
 }
 
 prop_compose! {
