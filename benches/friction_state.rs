@@ -4,7 +4,10 @@
 //!
 //! Run: `cargo bench --bench friction_state`; numbers in `docs/friction-state.md`.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::measurement::WallTime;
+use criterion::{
+    criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion, Throughput,
+};
 use rsf_friction::{
     AsinhLaw, ConvexPotential, DieterichRuina, FrictionLaw, RateStateParams, Tresca,
 };
@@ -72,6 +75,35 @@ fn state_updates(c: &mut Criterion) {
     bench_law(c, "discontinuous", &Discontinuous, &disc);
 }
 
+/// The local problems `(ϕ, a, r, w)` of `cases` `(α, a, r, w)`, `ϕ` `law`'s potential at
+/// `α`.
+fn problems<L: FrictionLaw>(
+    law: &L,
+    cases: &[(f64, f64, f64, f64)],
+) -> Vec<(L::Potential, f64, f64, f64)> {
+    cases
+        .iter()
+        .map(|c| (law.potential(c.0), c.1, c.2, c.3))
+        .collect()
+}
+
+/// The benchmark `name` of `group`: the exact local minimiser on every one of `problems`
+/// (their minimisers summed).
+fn bench_minimize<P: ConvexPotential>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    problems: &[(P, f64, f64, f64)],
+) {
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            problems
+                .iter()
+                .map(|(p, a, r, w)| p.minimize(*a, black_box(*r), *w))
+                .sum::<f64>()
+        })
+    });
+}
+
 /// Local problems `argmin ½ a s² − r s + w ϕ(s)` with the paper's parameters: α ∈ [−20, 20],
 /// `a` ∈ [1e6, 1e12], `r` log-uniform in [1e-3, 1e5] Pa (sticking and slipping nodes).
 fn minimizers(c: &mut Criterion) {
@@ -95,42 +127,13 @@ fn minimizers(c: &mut Criterion) {
             (alpha, a, r, 0.2)
         })
         .collect();
-    let dr_p: Vec<_> = cases
-        .iter()
-        .map(|c| (dr.potential(c.0), c.1, c.2, c.3))
-        .collect();
-    let as_p: Vec<_> = cases
-        .iter()
-        .map(|c| (asl.potential(c.0), c.1, c.2, c.3))
-        .collect();
-    let tr_p: Vec<_> = cases
-        .iter()
-        .map(|c| (tr.potential(c.0), c.1, c.2, c.3))
-        .collect();
+    let dr_p = problems(&dr, &cases);
 
     let mut group = c.benchmark_group("local_minimizer");
     group.throughput(Throughput::Elements(N as u64));
-    group.bench_function("dieterich_ruina", |b| {
-        b.iter(|| {
-            dr_p.iter()
-                .map(|(p, a, r, w)| p.minimize(*a, black_box(*r), *w))
-                .sum::<f64>()
-        })
-    });
-    group.bench_function("asinh", |b| {
-        b.iter(|| {
-            as_p.iter()
-                .map(|(p, a, r, w)| p.minimize(*a, black_box(*r), *w))
-                .sum::<f64>()
-        })
-    });
-    group.bench_function("tresca", |b| {
-        b.iter(|| {
-            tr_p.iter()
-                .map(|(p, a, r, w)| p.minimize(*a, black_box(*r), *w))
-                .sum::<f64>()
-        })
-    });
+    bench_minimize(&mut group, "dieterich_ruina", &dr_p);
+    bench_minimize(&mut group, "asinh", &problems(&asl, &cases));
+    bench_minimize(&mut group, "tresca", &problems(&tr, &cases));
     group.bench_function("dieterich_ruina_vector_2d", |b| {
         b.iter(|| {
             dr_p.iter()

@@ -41,7 +41,7 @@ use rsf_scenes::SliderScene;
 #[path = "../crates/rsf/tests/suite/common/velocity.rs"]
 mod velocity;
 use velocity::{
-    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
+    newmark_rhs, slider_velocity_problem, steady_shear_strain, tnnmg_on, uniform_friction,
     with_dirichlet_values,
 };
 
@@ -133,14 +133,8 @@ struct Problem {
 }
 
 fn problem(level: usize) -> Problem {
-    let scene = SliderScene {
-        level,
-        steps: 10_000,
-        ..SliderScene::default()
-    };
+    let (scene, model, a) = slider_velocity_problem(level);
     let tau = scene.tau();
-    let model = scene.build_model().expect("slider model");
-    let a = newmark_velocity_matrix(&model, tau);
     let n = model.fixed.len();
     let mut top = vec![false; n];
     for &i in &model.dirichlet.dofs {

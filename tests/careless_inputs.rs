@@ -132,57 +132,65 @@ fn flags(program: &str, dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
-/// Careless values of the flags that any program may have: `(flag, values)`; the error
-/// must name the flag.
-const CARELESS: &[(&str, &[&str])] = &[
-    ("--steps", &["1e12"]),
-    ("--end-years", &["1e12", "-1", "nan"]),
-    ("--end-time", &["1e12", "-1", "nan"]),
-    ("--level", &["30"]),
-    ("--levels", &["30"]),
-    ("--max-level", &["30"]),
-    ("--dx", &["1e-3", "1e300", "nan", "-1"]),
-    ("--dz", &["1e-3", "1e300", "nan", "-1"]),
-    ("--domain-km", &["1e300", "nan", "-1"]),
-    ("--ratio", &["1e300", "nan", "-1"]),
-    ("--width", &["1e300", "1e-300", "nan"]),
-    ("--tolerance", &["nan", "-1"]),
-    ("--rk-tolerance", &["nan", "0"]),
-    ("--epsilon", &["nan", "-1"]),
-    ("--kernel-epsilon", &["nan", "0.5"]),
-    ("--adaptive", &["nan", "2"]),
-    ("--coarse", &["1e12"]),
-    ("--fine", &["1e12"]),
-    ("--rows", &["1e12"]),
-    ("--steps-per-l", &["1e12", "nan"]),
-    ("--periods", &["1e12", "nan"]),
-    ("--reference-steps", &["1e12"]),
-    ("--ref-n", &["1e12"]),
-    ("--mesh-steps", &["1e12"]),
-    ("--energy-steps", &["1e12"]),
-    ("--length-km", &["1e300", "nan"]),
-    ("--depth-km", &["1e300", "nan"]),
-    ("--h0", &["nan", "-1"]),
-    ("--far", &["1e300", "nan"]),
-    ("--base-e", &["1e300", "nan", "-1"]),
-    ("--dip", &["nan", "1e300"]),
-    ("--mass", &["nan", "-1"]),
-    ("--eta", &["nan", "-1"]),
-    ("--compare-until", &["nan"]),
-    ("--snapshot-time", &["nan"]),
-    ("--switch", &["nan"]),
-    ("--angle", &["nan"]),
-    ("--window", &["nan,1"]),
-    ("--state-change-cap", &["nan"]),
-    ("--fixed-point-tolerance", &["nan"]),
-    ("--dynamic-fixed-point-tolerance", &["nan"]),
-    ("--dynamic-tau", &["1e8"]),
-    ("--switch-to-dynamic", &["nan"]),
-    ("--event-quiet-time", &["nan"]),
-    ("--memory-budget-gib", &["nan"]),
-    ("--date", &["2023-02-31"]),
-    ("--modeler", &[""]),
-    ("--tolerances", &["nan"]),
+/// Careless values of the flags that any program may have: `(flags, values)`, each value
+/// given to each flag alone; the error must name the flag.
+const CARELESS: &[(&[&str], &[&str])] = &[
+    // Counts.
+    (
+        &[
+            "--steps",
+            "--coarse",
+            "--fine",
+            "--rows",
+            "--reference-steps",
+            "--ref-n",
+            "--mesh-steps",
+            "--energy-steps",
+        ],
+        &["1e12"],
+    ),
+    (&["--steps-per-l", "--periods"], &["1e12", "nan"]),
+    (&["--level", "--levels", "--max-level"], &["30"]),
+    // Times, lengths and other quantities.
+    (&["--end-years", "--end-time"], &["1e12", "-1", "nan"]),
+    (&["--dx", "--dz"], &["1e-3", "1e300", "nan", "-1"]),
+    (
+        &["--domain-km", "--ratio", "--base-e"],
+        &["1e300", "nan", "-1"],
+    ),
+    (&["--width"], &["1e300", "1e-300", "nan"]),
+    (
+        &["--length-km", "--depth-km", "--far", "--dip"],
+        &["1e300", "nan"],
+    ),
+    (
+        &["--tolerance", "--epsilon", "--h0", "--mass", "--eta"],
+        &["nan", "-1"],
+    ),
+    (&["--rk-tolerance"], &["nan", "0"]),
+    (&["--kernel-epsilon"], &["nan", "0.5"]),
+    (&["--adaptive"], &["nan", "2"]),
+    (&["--dynamic-tau"], &["1e8"]),
+    (&["--window"], &["nan,1"]),
+    (
+        &[
+            "--compare-until",
+            "--snapshot-time",
+            "--switch",
+            "--angle",
+            "--state-change-cap",
+            "--fixed-point-tolerance",
+            "--dynamic-fixed-point-tolerance",
+            "--switch-to-dynamic",
+            "--event-quiet-time",
+            "--memory-budget-gib",
+            "--tolerances",
+        ],
+        &["nan"],
+    ),
+    // Words.
+    (&["--date"], &["2023-02-31"]),
+    (&["--modeler"], &[""]),
 ];
 
 /// One case: a program, its arguments, what the error must name (and what it must not:
@@ -240,8 +248,8 @@ fn generic_cases(program: &str, flags: &BTreeSet<String>) -> Vec<Case> {
             cases.push(case(program, &[folder, "busy"], "another run"));
         }
     }
-    for &(flag, values) in CARELESS {
-        if flags.contains(flag) {
+    for &(careless_flags, values) in CARELESS {
+        for &flag in careless_flags.iter().filter(|f| flags.contains(**f)) {
             for v in values {
                 cases.push(case(program, &[flag, v], flag));
             }
@@ -415,37 +423,36 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rsf-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let main_job = dir.join("main_job");
-    std::fs::create_dir_all(&main_job).unwrap();
-    std::fs::write(
-        main_job.join("rsf-run.txt"),
-        "program=pipping_slider\noutput=summary.json\noutput=timeseries.csv\n",
-    )
-    .unwrap();
-    std::fs::write(main_job.join("summary.json"), "{\"steps\": 10000}\n").unwrap();
-    std::fs::write(main_job.join("timeseries.csv"), "t,max_v\n0,1e-6\n").unwrap();
-    std::fs::write(main_job.join("checkpoint.bin"), "not a checkpoint\n").unwrap();
-    let bp1 = dir.join("bp1_run");
-    std::fs::create_dir_all(&bp1).unwrap();
-    std::fs::write(
-        bp1.join("rsf-run.txt"),
-        "program=seas_bp1\noutput=devol.dat\noutput=summary.json\n",
-    )
-    .unwrap();
-    std::fs::write(bp1.join("devol.dat"), "# BP1\n0 0\n").unwrap();
-    std::fs::write(bp1.join("summary.json"), "{\"events\": 3}\n").unwrap();
-    std::fs::create_dir_all(dir.join("busy")).unwrap();
-    std::fs::write(dir.join("busy").join("timeseries.csv"), "t\n0\n").unwrap();
-    std::fs::write(dir.join("a_file"), "not a folder\n").unwrap();
-    std::fs::write(dir.join("huge.toml"), "level = 1e300\n").unwrap();
-    std::fs::write(dir.join("huge_steps.toml"), "steps = 1000000000000\n").unwrap();
-    std::fs::write(dir.join("huge_level.toml"), "level = 30\n").unwrap();
-    std::fs::write(dir.join("bad_end.toml"), "end_time_s = -1.0\n").unwrap();
-    std::fs::write(dir.join("unknown_key.toml"), "no_such_setting = 1\n").unwrap();
-    std::fs::write(dir.join("typed_dx.toml"), "dx = \"ten\"\n").unwrap();
-    std::fs::write(dir.join("bad_dx.toml"), "dx = -10\n").unwrap();
-    std::fs::write(dir.join("typed_dz.toml"), "dz = \"ten\"\n").unwrap();
-    std::fs::write(dir.join("bad_dz.toml"), "dz = -10\n").unwrap();
+    for (file, text) in [
+        (
+            "main_job/rsf-run.txt",
+            "program=pipping_slider\noutput=summary.json\noutput=timeseries.csv\n",
+        ),
+        ("main_job/summary.json", "{\"steps\": 10000}\n"),
+        ("main_job/timeseries.csv", "t,max_v\n0,1e-6\n"),
+        ("main_job/checkpoint.bin", "not a checkpoint\n"),
+        (
+            "bp1_run/rsf-run.txt",
+            "program=seas_bp1\noutput=devol.dat\noutput=summary.json\n",
+        ),
+        ("bp1_run/devol.dat", "# BP1\n0 0\n"),
+        ("bp1_run/summary.json", "{\"events\": 3}\n"),
+        ("busy/timeseries.csv", "t\n0\n"),
+        ("a_file", "not a folder\n"),
+        ("huge.toml", "level = 1e300\n"),
+        ("huge_steps.toml", "steps = 1000000000000\n"),
+        ("huge_level.toml", "level = 30\n"),
+        ("bad_end.toml", "end_time_s = -1.0\n"),
+        ("unknown_key.toml", "no_such_setting = 1\n"),
+        ("typed_dx.toml", "dx = \"ten\"\n"),
+        ("bad_dx.toml", "dx = -10\n"),
+        ("typed_dz.toml", "dz = \"ten\"\n"),
+        ("bad_dz.toml", "dz = -10\n"),
+    ] {
+        let path = dir.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
     dir
 }
 

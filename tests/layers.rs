@@ -215,24 +215,9 @@ fn expand_use_trees(code: &str) -> Vec<(String, Vec<String>)> {
             i += 4;
             continue;
         }
-        if in_test.is_some() {
-            match bytes[i] {
-                b'{' => depth += 1,
-                b'}' => {
-                    depth = depth.saturating_sub(1);
-                    while inline.last().is_some_and(|(_, d)| *d > depth) {
-                        inline.pop();
-                    }
-                    if in_test.is_some_and(|d| d > depth) {
-                        in_test = None;
-                    }
-                }
-                _ => {}
-            }
-            i += 1;
-            continue;
-        }
-        if word_start && rest.starts_with("use ") {
+        // A test module's paths are passed over; only its braces count.
+        let read_paths = word_start && in_test.is_none();
+        if read_paths && rest.starts_with("use ") {
             let end = rest.find(';').unwrap_or(rest.len());
             let mut flat = Vec::new();
             flatten("", &rest[4..end], &mut flat);
@@ -240,7 +225,7 @@ fn expand_use_trees(code: &str) -> Vec<(String, Vec<String>)> {
             i += end + 1;
             continue;
         }
-        if word_start
+        if read_paths
             && (rest.starts_with("crate::")
                 || rest.starts_with("super::")
                 || rest.starts_with("self::"))
@@ -258,6 +243,9 @@ fn expand_use_trees(code: &str) -> Vec<(String, Vec<String>)> {
                 depth = depth.saturating_sub(1);
                 while inline.last().is_some_and(|(_, d)| *d > depth) {
                     inline.pop();
+                }
+                if in_test.is_some_and(|d| d > depth) {
+                    in_test = None;
                 }
             }
             _ => {}
@@ -472,29 +460,35 @@ fn no_import_circles_between_the_files_of_a_crate() {
     assert!(checked > 50, "only {checked} files found");
 }
 
+/// A temporary crate, `rsf-NAME-PID` in the temporary folder, whose `src/` holds `files`
+/// (each a path below `src/` and its text); returns the crate's folder.
+fn temp_crate(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsf-{name}-{}", std::process::id()));
+    for (path, text) in files {
+        let path = dir.join("src").join(path);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
+    dir
+}
+
 /// The detector itself: a circle through a `super::` import and a name taken through the
 /// root's re-export is found; the re-export itself is no import.
 #[test]
 fn the_circle_detector_sees_circles() {
-    let dir = std::env::temp_dir().join(format!("rsf-layers-{}", std::process::id()));
+    let dir = temp_crate(
+        "layers",
+        &[
+            ("lib.rs", "mod a;\npub use a::b::Thing;\n"),
+            ("a/mod.rs", "pub(crate) mod b;\npub(crate) mod c;\n"),
+            ("a/b.rs", "use super::c::Other; pub struct Thing;\n"),
+            (
+                "a/c.rs",
+                "// use crate::Thing;\nuse crate::{Thing};\npub struct Other;\n",
+            ),
+        ],
+    );
     let src = dir.join("src");
-    std::fs::create_dir_all(src.join("a")).unwrap();
-    std::fs::write(src.join("lib.rs"), "mod a;\npub use a::b::Thing;\n").unwrap();
-    std::fs::write(
-        src.join("a/mod.rs"),
-        "pub(crate) mod b;\npub(crate) mod c;\n",
-    )
-    .unwrap();
-    std::fs::write(
-        src.join("a/b.rs"),
-        "use super::c::Other; pub struct Thing;\n",
-    )
-    .unwrap();
-    std::fs::write(
-        src.join("a/c.rs"),
-        "// use crate::Thing;\nuse crate::{Thing};\npub struct Other;\n",
-    )
-    .unwrap();
     let graph = import_graph(&src);
     let cycle = find_cycle(&graph).expect("a circle");
     assert!(
@@ -689,23 +683,18 @@ fn no_import_circles_between_the_folders_of_a_crate() {
 /// layer's file is found, its removal passes, and a module no layer lists is named.
 #[test]
 fn the_order_check_sees_upward_imports() {
-    let dir = std::env::temp_dir().join(format!("rsf-order-{}", std::process::id()));
+    let dir = temp_crate(
+        "order",
+        &[
+            ("lib.rs", "mod low;\nmod high;\n"),
+            ("low/mod.rs", "pub(crate) mod part;\n"),
+            ("high.rs", "use crate::low::part::Thing;\npub struct Top;\n"),
+            // The temporary violation: the low folder takes a name of the higher file.
+            ("low/part.rs", "use crate::high::Top;\npub struct Thing;\n"),
+        ],
+    );
     let src = dir.join("src");
-    std::fs::create_dir_all(src.join("low")).unwrap();
-    std::fs::write(src.join("lib.rs"), "mod low;\nmod high;\n").unwrap();
-    std::fs::write(src.join("low/mod.rs"), "pub(crate) mod part;\n").unwrap();
-    std::fs::write(
-        src.join("high.rs"),
-        "use crate::low::part::Thing;\npub struct Top;\n",
-    )
-    .unwrap();
     let layers: &[&[&str]] = &[&["low"], &["high"]];
-    // The temporary violation: the low folder takes a name of the higher file.
-    std::fs::write(
-        src.join("low/part.rs"),
-        "use crate::high::Top;\npub struct Thing;\n",
-    )
-    .unwrap();
     let found = upward_imports(&module_graph(&src), layers);
     assert_eq!(found, ["low (layer 0) -> high (layer 1)"], "{found:?}");
     std::fs::write(src.join("low/part.rs"), "pub struct Thing;\n").unwrap();

@@ -132,6 +132,24 @@ fn on_threads<T: Send>(threads: usize, body: impl FnOnce() -> T + Send) -> T {
         .install(body)
 }
 
+/// [`check`] of `run` at one thread (`Parallelism::SEQ`) and at two
+/// (`Parallelism::rayon(2)` on a pool of two threads).
+fn check_at_one_and_two_threads(label: &str, run: impl Fn(Parallelism) -> Hashes + Sync) {
+    let runs = [
+        (1, run(Parallelism::SEQ)),
+        (2, on_threads(2, || run(Parallelism::rayon(2)))),
+    ];
+    check(label, &runs);
+}
+
+/// Until the time `years` (of [`SECONDS_PER_YEAR`]) within at most 500 000 steps.
+fn within_years(years: f64) -> Until {
+    Until::TimeWithin {
+        time: years * SECONDS_PER_YEAR,
+        max_steps: 500_000,
+    }
+}
+
 fn read_file() -> BTreeMap<String, Hashes> {
     let Ok(text) = std::fs::read_to_string(hashes_file()) else {
         return BTreeMap::new();
@@ -223,11 +241,7 @@ fn pipping_slider_level_2() {
             .unwrap();
         hash_run(&mut sim, Until::Steps(10_000))
     };
-    let runs = [
-        (1, run(Parallelism::SEQ)),
-        (2, on_threads(2, || run(Parallelism::rayon(2)))),
-    ];
-    check("pipping_slider_level_2_10000_steps", &runs);
+    check_at_one_and_two_threads("pipping_slider_level_2_10000_steps", run);
 }
 
 /// The 3-D slider (`slider_3d`'s scene: TNNMG with red–black chunks) at level 2, 1000
@@ -249,11 +263,7 @@ fn slider_3d_level_2() {
             .unwrap();
         hash_run(&mut sim, Until::Steps(1000))
     };
-    let runs = [
-        (1, run(Parallelism::SEQ)),
-        (2, on_threads(2, || run(Parallelism::rayon(2)))),
-    ];
-    check("slider_3d_level_2_1000_steps", &runs);
+    check_at_one_and_two_threads("slider_3d_level_2_1000_steps", run);
 }
 
 /// SEAS BP1-QD at Δz = 400 m (400 km box) over 300 years with the fault ODE (tolerance
@@ -272,19 +282,9 @@ fn bp1(label: &str, kernel: FaultKernel) {
             ..bp1.fault_ode_options(1e-6).unwrap()
         };
         let mut ode = bp1.fault_ode(model, options).unwrap();
-        hash_run(
-            &mut ode,
-            Until::TimeWithin {
-                time: 300.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-        )
+        hash_run(&mut ode, within_years(300.0))
     };
-    let runs = [
-        (1, run(Parallelism::SEQ)),
-        (2, on_threads(2, || run(Parallelism::rayon(2)))),
-    ];
-    check(label, &runs);
+    check_at_one_and_two_threads(label, run);
 }
 
 #[test]
@@ -318,19 +318,9 @@ fn seas_bp3_dx_2000() {
         options.kernel = FaultKernel::Dense;
         options.parallelism = par;
         let mut ode = bp3.fault_ode(model, options).unwrap();
-        hash_run(
-            &mut ode,
-            Until::TimeWithin {
-                time: 150.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-        )
+        hash_run(&mut ode, within_years(150.0))
     };
-    let runs = [
-        (1, run(Parallelism::SEQ)),
-        (2, on_threads(2, || run(Parallelism::rayon(2)))),
-    ];
-    check("seas_bp3_thrust_dx_2000_150_years", &runs);
+    check_at_one_and_two_threads("seas_bp3_thrust_dx_2000_150_years", run);
 }
 
 /// SEAS BP5-QD as a fault alone with Okada's operator (issue 56), 4 km cells (dense
@@ -347,17 +337,7 @@ fn seas_bp5_dx_4000() {
         let mut ode = bp5
             .fault_ode(model, options, &bp5.half_space(1e-6).unwrap())
             .unwrap();
-        hash_run(
-            &mut ode,
-            Until::TimeWithin {
-                time: 200.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-        )
+        hash_run(&mut ode, within_years(200.0))
     };
-    let runs = [
-        (1, run(Parallelism::SEQ)),
-        (2, on_threads(2, || run(Parallelism::rayon(2)))),
-    ];
-    check("seas_bp5_okada_dx_4000_200_years", &runs);
+    check_at_one_and_two_threads("seas_bp5_okada_dx_4000_200_years", run);
 }

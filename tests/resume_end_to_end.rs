@@ -152,43 +152,27 @@ fn stopped_killed_and_resumed_runs_match_and_mistakes_change_nothing() {
     // Mistakes into the half-finished folder: a new run without --resume, a resume with
     // another scene's fingerprint, a resume with another run's checkpoint. Each refused,
     // every file byte-identical.
-    let e = example(&stopped, &["--checkpoint-every", "50"]).unwrap_err();
-    assert!(
-        e.contains("--overwrite") && e.contains("timeseries.csv"),
-        "{e}"
-    );
-    assert_eq!(
-        snapshot(&stopped),
-        half,
-        "a refused new run changes nothing"
+    let refused = |args: &[&str], names: &[&str], what: &str| {
+        let e = example(&stopped, args).unwrap_err();
+        assert!(names.iter().all(|name| e.contains(name)), "{e}");
+        assert_eq!(snapshot(&stopped), half, "{what} changes nothing");
+    };
+    refused(
+        &["--checkpoint-every", "50"],
+        &["--overwrite", "timeseries.csv"],
+        "a refused new run",
     );
     let ckpt = stopped.join("checkpoint.bin").display().to_string();
     let mut other = vec!["--resume", ckpt.as_str(), "--law", "slip"];
-    let e = example(&stopped, &other).unwrap_err();
-    assert!(e.contains("state_law"), "{e}");
-    assert_eq!(snapshot(&stopped), half, "another scene changes nothing");
+    refused(&other, &["state_law"], "another scene");
     other.truncate(2);
     let foreign = straight.join("checkpoint.bin").display().to_string();
     // (The straight run wrote no frames: its `frame_every` differs, allowed here so that
     // the rows refuse it.)
-    let e = example(
-        &stopped,
-        &[
-            "--resume",
-            foreign.as_str(),
-            "--allow-change",
-            "frame_every",
-        ],
-    )
-    .unwrap_err();
-    assert!(
-        e.contains("cannot resume") && e.contains("step 1000"),
-        "{e}"
-    );
-    assert_eq!(
-        snapshot(&stopped),
-        half,
-        "another run's checkpoint changes nothing"
+    refused(
+        &["--resume", &foreign, "--allow-change", "frame_every"],
+        &["cannot resume", "step 1000"],
+        "another run's checkpoint",
     );
 
     // The deliberate resume (VTU frames continued from the checkpoint's step too).

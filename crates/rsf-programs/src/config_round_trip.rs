@@ -4,6 +4,7 @@
 //! programs' are in `config_tests`.
 
 use proptest::prelude::*;
+use proptest::sample::select;
 use rsf::fem::Diagonal;
 use rsf::method::{FixedPointScheme, InnerSolves, StateIntegrator};
 use rsf::tnnmg::SmootherOrder;
@@ -68,33 +69,30 @@ pub(crate) fn command_line<C: RunConfig>(program: &str, run: &C) -> Vec<String> 
 /// A slider scene with every setting the flags give drawn at random (each valid).
 fn slider_scene() -> impl Strategy<Value = SliderScene> {
     let choices = (
-        prop_oneof![Just(StateLawKind::Aging), Just(StateLawKind::Slip)],
-        prop_oneof![
-            Just(StateIntegrator::BackwardEuler),
-            Just(StateIntegrator::ConstantSlipRate)
-        ],
-        prop_oneof![Just(Integrator::Newmark), Just(Integrator::BackwardEuler)],
-        prop_oneof![
-            Just(SolverKind::Auto),
-            Just(SolverKind::Direct),
-            Just(SolverKind::Tnnmg)
-        ],
-        prop_oneof![
-            Just(FixedPointScheme::Anderson),
-            Just(FixedPointScheme::Paper)
-        ],
-        prop_oneof![Just(Diagonal::Forward), Just(Diagonal::Backward)],
+        select(vec![StateLawKind::Aging, StateLawKind::Slip]),
+        select(vec![
+            StateIntegrator::BackwardEuler,
+            StateIntegrator::ConstantSlipRate,
+        ]),
+        select(vec![Integrator::Newmark, Integrator::BackwardEuler]),
+        select(vec![
+            SolverKind::Auto,
+            SolverKind::Direct,
+            SolverKind::Tnnmg,
+        ]),
+        select(vec![FixedPointScheme::Anderson, FixedPointScheme::Paper]),
+        select(vec![Diagonal::Forward, Diagonal::Backward]),
         prop_oneof![
             Just(InnerSolves::Exact),
             Just(InnerSolves::BySolver),
             (0.01f64..0.9, any::<bool>())
                 .prop_map(|(factor, first)| InnerSolves::Inexact { factor, first }),
         ],
-        prop_oneof![
-            Just(SmootherOrder::Lexicographic),
-            Just(SmootherOrder::MultiColour),
-            Just(SmootherOrder::RedBlackChunks)
-        ],
+        select(vec![
+            SmootherOrder::Lexicographic,
+            SmootherOrder::MultiColour,
+            SmootherOrder::RedBlackChunks,
+        ]),
     );
     let numbers = (
         0usize..=6,

@@ -50,6 +50,16 @@ fn strip() -> SimplexMesh<2> {
     rectangle([0.0, 0.0], [4.0, 0.25], 160, 10, Diagonal::Forward).unwrap()
 }
 
+/// The strip's side `x = 0`.
+fn left() -> Part<2> {
+    Part::predicate("left", |x| x[0] < EPS)
+}
+
+/// The strip's bottom `y = 0`.
+fn bottom() -> Part<2> {
+    Part::predicate("bottom", |x| x[1] < EPS)
+}
+
 fn right() -> Part<2> {
     Part::predicate("right", |x| x[0] > 4.0 - EPS)
 }
@@ -59,8 +69,8 @@ fn right() -> Part<2> {
 fn scalar_strip(absorbing: bool) -> Model<2, 1> {
     let mut b = ModelBuilder::scalar(strip())
         .material(AntiplaneMaterial::new(1.0, 1.0))
-        .dirichlet(Part::predicate("left", |x| x[0] < EPS), [0.0])
-        .frictional_boundary(Part::predicate("bottom", |x| x[1] < EPS));
+        .dirichlet(left(), [0.0])
+        .frictional_boundary(bottom());
     if absorbing {
         b = b.absorbing_boundary(right());
     }
@@ -376,30 +386,32 @@ fn absorbing_parts_are_checked() {
     let base = || {
         ModelBuilder::scalar(strip())
             .material(AntiplaneMaterial::new(1.0, 1.0))
-            .dirichlet(Part::predicate("left", |x| x[0] < EPS), [0.0])
-            .frictional_boundary(Part::predicate("bottom", |x| x[1] < EPS))
+            .dirichlet(left(), [0.0])
+            .frictional_boundary(bottom())
     };
     let part_error = |r: rsf::Result<Model<2, 1>>| match r {
         Err(Error::BoundaryPart { part, reason }) => (part, reason),
         other => panic!("expected a boundary part error, got {other:?}"),
     };
-    // A tag the mesh does not have.
-    let (part, reason) = part_error(base().absorbing_boundary("nowhere").build());
-    assert_eq!(part, "nowhere");
-    assert!(reason.contains("no boundary facet"), "{reason}");
-    // A predicate that selects no boundary facet (a line inside the body).
-    let (part, _) = part_error(
-        base()
-            .absorbing_boundary(Part::predicate("inside", |x| (x[0] - 2.0).abs() < EPS))
-            .build(),
-    );
-    assert_eq!(part, "inside");
+    // A tag the mesh does not have; a predicate that selects no boundary facet (a line
+    // inside the body: any reason); on the frictional boundary; entirely Dirichlet.
+    let inside = Part::predicate("inside", |x| (x[0] - 2.0).abs() < EPS);
+    for (absorbing, name, why) in [
+        (Part::from("nowhere"), "nowhere", "no boundary facet"),
+        (inside, "inside", ""),
+        (bottom(), "bottom", "frictional"),
+        (left(), "left", "fixed"),
+    ] {
+        let (part, reason) = part_error(base().absorbing_boundary(absorbing).build());
+        assert_eq!(part, name);
+        assert!(reason.contains(why), "{reason}");
+    }
     // Zero density: no impedance.
     let (part, reason) = part_error(
         ModelBuilder::scalar(strip())
             .material(AntiplaneMaterial::new(1.0, 0.0))
-            .dirichlet(Part::predicate("left", |x| x[0] < EPS), [0.0])
-            .frictional_boundary(Part::predicate("bottom", |x| x[1] < EPS))
+            .dirichlet(left(), [0.0])
+            .frictional_boundary(bottom())
             .absorbing_boundary(right())
             .build(),
     );
@@ -408,22 +420,6 @@ fn absorbing_parts_are_checked() {
         reason.contains("impedances") && reason.contains("density"),
         "{reason}"
     );
-    // On the frictional boundary.
-    let (part, reason) = part_error(
-        base()
-            .absorbing_boundary(Part::predicate("bottom", |x| x[1] < EPS))
-            .build(),
-    );
-    assert_eq!(part, "bottom");
-    assert!(reason.contains("frictional"), "{reason}");
-    // Entirely Dirichlet.
-    let (part, reason) = part_error(
-        base()
-            .absorbing_boundary(Part::predicate("left", |x| x[0] < EPS))
-            .build(),
-    );
-    assert_eq!(part, "left");
-    assert!(reason.contains("fixed"), "{reason}");
     // Without inertia.
     let (_, reason) = part_error(base().absorbing_boundary(right()).without_mass().build());
     assert!(reason.contains("inertia"), "{reason}");

@@ -3,7 +3,7 @@
 //! rejects and retries failing steps without showing them to observers, stays within its
 //! bounds, and checkpoints bit-identically.
 
-use crate::common::{frictionless, resumable_observers, temp_dir, within, StopAt};
+use crate::common::{frictionless, resumable_observers, slider, temp_dir, within, StopAt};
 use rsf::friction::Tresca;
 use rsf::simulation::NoState;
 use rsf::time::{Newmark, StepControl};
@@ -43,13 +43,11 @@ fn assert_contiguous(steps: &[(f64, f64, usize, f64)], t0: f64) {
 /// contact), no gravity: linear elastodynamics driven by the top boundary.
 fn linear_scene() -> SliderScene {
     SliderScene {
-        level: 1,
-        steps: 1000,
         end_time_s: 0.5,
         gravity_m_per_s2: 0.0,
         loading_velocity_m_per_s: 1e-3,
         ramp_fraction: 0.2,
-        ..SliderScene::default()
+        ..slider(1, 1000)
     }
 }
 
@@ -148,12 +146,10 @@ fn steady_sliding_stays_steady_with_growing_steps() {
     // Velocity strengthening (a > b) loaded long enough to slide steadily: the controller
     // must keep it steady (no events) and grow the step to its maximum.
     let scene = SliderScene {
-        level: 1,
-        steps: 2000,
         end_time_s: 20.0,
         a: 0.02,
         b: 0.01,
-        ..SliderScene::default()
+        ..slider(1, 2000)
     };
     let mut sim = scene.build().unwrap();
     sim.run_until(within(15.0), &mut []).unwrap();
@@ -228,10 +224,8 @@ fn failing_steps_are_rejected_retried_and_never_observed() {
     // A fixed point budget of 3 iterations fails on large steps through the first slip
     // event; the controller must shrink the step and carry on.
     let scene = SliderScene {
-        level: 1,
-        steps: 2000,
         fixed_point_max_iterations: 3,
-        ..SliderScene::default()
+        ..slider(1, 2000)
     };
     let mut sim = scene.build().unwrap();
     let (tau_min, tau_max) = (1e-7, 0.05);
@@ -257,11 +251,7 @@ fn failing_steps_are_rejected_retried_and_never_observed() {
 
 #[test]
 fn adaptive_checkpoint_and_resume_is_bit_identical() {
-    let scene = SliderScene {
-        level: 1,
-        steps: 1000,
-        ..SliderScene::default()
-    };
+    let scene = slider(1, 1000);
     let c = control(1e-3, 1e-9, 0.1);
     let straight = {
         let mut sim = scene.build().unwrap();
@@ -400,13 +390,11 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
     // Level 1, fast loading from t = 0; the steps grow from 1e-3 s and shrink again
     // through the slip.
     let scene = SliderScene {
-        level: 1,
-        steps: 300,
         end_time_s: 0.6,
         loading_velocity_m_per_s: 1e-2,
         ramp_fraction: 0.0,
         time_step: TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3)),
-        ..SliderScene::default()
+        ..slider(1, 300)
     };
     let (every, stop) = (40, 130);
     let run = |dir: &Path, stop: Option<usize>, resume: bool| {

@@ -17,7 +17,7 @@
 //!
 //! All runs are on level 1 and take at most a couple of thousand steps.
 
-use crate::common::within;
+use crate::common::{slider, within};
 use rsf::time::Error as TimeError;
 use rsf::{Error, Flow, Integrator, Observer, StateLawKind, StepView};
 use rsf_scenes::{AdaptiveTimeStep, SceneSimulation, SliderScene, TimeStep};
@@ -45,23 +45,19 @@ fn accept_all(tol: f64) -> AdaptiveTimeStep {
 /// ramp, which ends at 3.75 s.
 fn healing(a: AdaptiveTimeStep) -> SliderScene {
     SliderScene {
-        level: 1,
-        steps: 1000,
         time_step: TimeStep::Adaptive(a),
-        ..SliderScene::default()
+        ..slider(1, 1000)
     }
 }
 
 /// Fast loading from t = 0 (no ramp, no breakpoint): slip within a fraction of a second.
 fn fast(a: AdaptiveTimeStep) -> SliderScene {
     SliderScene {
-        level: 1,
-        steps: 300,
         end_time_s: 0.6,
         loading_velocity_m_per_s: 1e-2,
         ramp_fraction: 0.0,
         time_step: TimeStep::Adaptive(a),
-        ..SliderScene::default()
+        ..slider(1, 300)
     }
 }
 
@@ -1038,11 +1034,7 @@ fn extreme_options_with_other_laws_and_integrators() {
 /// to fixed steps.
 #[test]
 fn equal_step_bounds_reproduce_fixed_steps_bit_identically() {
-    let fixed = SliderScene {
-        level: 1,
-        steps: 1000,
-        ..SliderScene::default()
-    };
+    let fixed = slider(1, 1000);
     let tau = fixed.tau();
     let adaptive = SliderScene {
         time_step: TimeStep::Adaptive(AdaptiveTimeStep {

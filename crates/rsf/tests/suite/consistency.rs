@@ -2,23 +2,21 @@
 //! problem (issue 11): mismatched state variables, a free normal on Γ_F, non-finite
 //! checkpoints, a non-monotone user state law, out-of-range nodes, missing parts.
 
-use rsf::friction::{DieterichRuina, StateDependentTresca, StateVariable};
+use rsf::friction::{DieterichRuina, FrictionLaw, StateDependentTresca, StateVariable};
 use rsf::method::StateIntegrator;
 use rsf::observe::{
     EventThresholds, Every, FileMode, FrictionalProfile, Interval, PointSeries, Recorder,
     SlipEvents,
 };
 use rsf::state::{Aging, Discontinuous, StateLaw};
+use rsf::time::VelocityIntegrator;
 use rsf::{Checkpoint, Error, Model, SimulationBuilder};
 use rsf_scenes::SliderScene;
 
 fn model() -> Model<2> {
-    SliderScene {
-        level: 1,
-        ..SliderScene::default()
-    }
-    .build_model()
-    .unwrap()
+    crate::common::with_level(SliderScene::default(), 1)
+        .build_model()
+        .unwrap()
 }
 
 fn paper_friction() -> DieterichRuina {
@@ -195,44 +193,32 @@ fn out_of_range_nodes_and_empty_meshes_are_errors() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The message of the error `builder` gives when built.
+fn refusal<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+    builder: SimulationBuilder<2, L, S, I>,
+) -> String {
+    builder.build().err().unwrap().to_string()
+}
+
 #[test]
 fn missing_parts_of_a_simulation_are_named() {
-    let e = SimulationBuilder::new(model())
-        .friction(paper_friction())
-        .state_law(Aging::new(1e-5).unwrap())
-        .initial_state(-10.0)
-        .build()
-        .err()
-        .unwrap();
-    assert!(e.to_string().contains("time_step"), "{e}");
-    let e = SimulationBuilder::new(model())
-        .friction(paper_friction())
-        .state_law(Aging::new(1e-5).unwrap())
-        .time_step(1e-3)
-        .build()
-        .err()
-        .unwrap();
-    assert!(e.to_string().contains("initial_state"), "{e}");
+    let aging = || Aging::new(1e-5).unwrap();
+    let with_friction = || SimulationBuilder::new(model()).friction(paper_friction());
+    let e = refusal(with_friction().state_law(aging()).initial_state(-10.0));
+    assert!(e.contains("time_step"), "{e}");
+    let e = refusal(with_friction().state_law(aging()).time_step(1e-3));
+    assert!(e.contains("initial_state"), "{e}");
     // Friction with state but no state law.
-    let e = SimulationBuilder::new(model())
-        .friction(paper_friction())
-        .initial_state(-10.0)
-        .time_step(1e-3)
-        .build()
-        .err()
-        .unwrap();
-    assert!(e.to_string().contains("state_law"), "{e}");
+    let e = refusal(with_friction().initial_state(-10.0).time_step(1e-3));
+    assert!(e.contains("state_law"), "{e}");
     // τ is named as the simulation's parameter, not a scene's.
-    let e = SimulationBuilder::new(model())
-        .friction(paper_friction())
-        .state_law(Aging::new(1e-5).unwrap())
-        .initial_state(-10.0)
-        .time_step(f64::NAN)
-        .build()
-        .err()
-        .unwrap();
-    let msg = e.to_string();
-    assert!(msg.contains("`tau`") && !msg.contains("scene"), "{msg}");
+    let e = refusal(
+        with_friction()
+            .state_law(aging())
+            .initial_state(-10.0)
+            .time_step(f64::NAN),
+    );
+    assert!(e.contains("`tau`") && !e.contains("scene"), "{e}");
 }
 
 #[test]

@@ -5,6 +5,7 @@
 //! operator are `W K`; a whole space and triangles work the same way.
 #![cfg(feature = "halfspace")]
 
+use crate::common::{mixed_slip, relative_product_difference};
 use faer::Mat;
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_operator::FaultOperator;
@@ -13,7 +14,7 @@ use rsf::halfspace_operator::{
     fault_alone_model, ElementOperator, ElementOptions, HalfSpaceOperator, HalfSpaceOperatorError,
     HalfSpaceOptions,
 };
-use rsf::{Parallelism, Stepping};
+use rsf::Stepping;
 use rsf_scenes::SeasBp5;
 
 fn max_abs(a: &Mat<f64>) -> f64 {
@@ -142,6 +143,22 @@ fn a_finite_element_faults_nodes_find_their_elements() {
     ));
 }
 
+/// The model of `set`'s fault alone and its operator (the default options), whose dense
+/// `S` is asserted `W K` entry by entry, bit for bit (`W` the weight of each node, scaling
+/// its two rows; `K` the set's own dense kernel).
+fn weighted_kernel<E: Element>(set: &ElementSet<E>) -> (rsf::Model<3>, ElementOperator) {
+    let model = fault_alone_model(set).unwrap();
+    let mut op = ElementOperator::fault_alone(&model, set, &ElementOptions::default()).unwrap();
+    let (s, k) = (op.dense().unwrap(), set.dense().unwrap());
+    let w = &model.frictional_boundary.weights;
+    for i in 0..s.nrows() {
+        for j in 0..s.ncols() {
+            assert_eq!(s[(i, j)], w[i / 2] * k[(i, j)], "{i} {j}");
+        }
+    }
+    (model, op)
+}
+
 /// Two faults alone in one operator (two rectangles' grids of different strike and dip,
 /// a half-space): `S = W K` entry by entry, bit for bit with the dense kernel; the
 /// ℋ-kernel's product within its ε of the dense one; the fault ODE accepts it.
@@ -162,16 +179,7 @@ fn several_faults_alone_in_one_operator() {
         .unwrap(),
     );
     let set = ElementSet::new(medium, Space::HalfSpace, rects).unwrap();
-    let model = fault_alone_model(&set).unwrap();
-    let mut dense = ElementOperator::fault_alone(&model, &set, &ElementOptions::default()).unwrap();
-    let s = dense.dense().unwrap();
-    let k = set.dense().unwrap();
-    let w = &model.frictional_boundary.weights;
-    for i in 0..s.nrows() {
-        for j in 0..s.ncols() {
-            assert_eq!(s[(i, j)], w[i / 2] * k[(i, j)], "{i} {j}");
-        }
-    }
+    let (model, mut dense) = weighted_kernel(&set);
     let eps = 1e-6;
     let mut h = ElementOperator::fault_alone(
         &model,
@@ -185,16 +193,8 @@ fn several_faults_alone_in_one_operator() {
     .unwrap();
     eprintln!("{}", h.report());
     assert!(h.report().low_rank_blocks > 0 && h.report().relative_error <= eps);
-    let m = h.dim();
-    let x: Vec<f64> = (0..m).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-    let (mut r0, mut r1) = (vec![0.0; m], vec![0.0; m]);
-    dense
-        .subtract_product(&x, &mut r0, Parallelism::SEQ)
-        .unwrap();
-    h.subtract_product(&x, &mut r1, Parallelism::SEQ).unwrap();
-    let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
-    let diff: Vec<f64> = r0.iter().zip(&r1).map(|(a, b)| a - b).collect();
-    let rel = norm(&diff) / norm(&r0);
+    let x = mixed_slip(h.dim());
+    let rel = relative_product_difference(&mut dense, &mut h, &x);
     eprintln!("two faults: ‖(S − S_H) x‖/‖S x‖ = {rel:.2e}");
     assert!(rel <= 10.0 * eps, "{rel:e}");
     // Triangles in the whole space: the same operator, W K.
@@ -214,18 +214,11 @@ fn several_faults_alone_in_one_operator() {
         .unwrap(),
     ];
     let tset = ElementSet::new(medium, Space::WholeSpace, tris).unwrap();
-    let tmodel = fault_alone_model(&tset).unwrap();
-    let mut top = ElementOperator::fault_alone(&tmodel, &tset, &ElementOptions::default()).unwrap();
+    let (tmodel, mut top) = weighted_kernel(&tset);
     let ts = top.dense().unwrap();
-    let tk = tset.dense().unwrap();
+    assert_eq!(ts.nrows(), 6);
     for i in 0..6 {
         assert!(ts[(i, i)] > 0.0);
-        for j in 0..6 {
-            assert_eq!(
-                ts[(i, j)],
-                tmodel.frictional_boundary.weights[i / 2] * tk[(i, j)]
-            );
-        }
     }
     // A model of another fault is refused.
     assert!(matches!(

@@ -4,6 +4,7 @@
 //! fault of a network with a branch or a crossing; the implicit scheme's solvers (TNNMG on
 //! a hierarchy split along the network, the direct condensation) agree on it; every
 //! frictional node knows its fault.
+use crate::common::quasi_dynamic_of;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal};
 use rsf::friction::{AsinhLaw, RateStateParams};
@@ -66,13 +67,7 @@ fn sheared(
 /// The quasi-dynamic problem on `model`: the regularised law, the aging law at steady
 /// state for 1e-9 m/s, radiation damping μ/(2c_s).
 fn quasi_dynamic(model: Model<2>) -> SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2> {
-    let (mu, c_s) = (1.2e10, (1.2e10 / 2700.0f64).sqrt());
-    SimulationBuilder::new(model)
-        .friction(AsinhLaw::new(params()).unwrap())
-        .state_law(Aging::new(params().l).unwrap())
-        .initial_state((params().l / 1e-9f64).ln())
-        .integrator(Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
+    quasi_dynamic_of(model, params(), 1e-9, 1.2e10)
 }
 
 /// The slip (m; the jump's tangential component in the node's frame) of every frictional

@@ -10,7 +10,8 @@ use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 use crate::common::{
-    creeping_bp1, small_bp1, small_bp1_and_fine_grid, steady_creep_errors, within, H_LEAF_8,
+    creeping_bp1, small_bp1, small_bp1_and_fine_grid, steady_creep_errors, temp_dir, within,
+    H_LEAF_8,
 };
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf_scenes::SeasBp1FaultOde {
@@ -328,17 +329,27 @@ fn assert_same_rows(a: &[(f64, f64, Vec<f64>)], b: &[(f64, f64, Vec<f64>)], what
     }
 }
 
+/// The first row of `rows` (a [`Trace`]'s) whose largest slip rate reaches 1e-3 m/s (an event),
+/// or the middle row if none does.
+fn first_fast_step(rows: &[(f64, f64, Vec<f64>)]) -> usize {
+    rows.iter()
+        .position(|r| r.1 >= 1e-3)
+        .unwrap_or(rows.len() / 2)
+}
+
 /// Kill + resume of a `Stepping` method: the uninterrupted run to `t_end` against, for
 /// each kill step `k`, a run to `k` steps, a checkpoint written to disk and read back, a
 /// fresh method restored from it and run to `t_end` — the rows after the checkpoint are
 /// the same bits. Also a run that ends at an intermediate time (its last step lands on
-/// it, so the saved rate is not the rate re-evaluated at the end time) and resumes.
+/// it, so the saved rate is not the rate re-evaluated at the end time) and resumes. The
+/// checkpoint is written in the test's folder `name` ([`temp_dir`]), removed at the end.
 fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
+    name: &str,
     make: impl Fn() -> M,
     t_end: f64,
     kills: impl Fn(&[(f64, f64, Vec<f64>)]) -> Vec<usize>,
-    dir: &std::path::Path,
 ) {
+    let dir = temp_dir(name);
     let mut whole = Trace::default();
     let mut m = make();
     rsf::run_until(&mut m, within(t_end), &mut [&mut whole]).unwrap();
@@ -396,6 +407,7 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
         &tail_continued.rows,
         "resumed at an end time",
     );
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The fault ODE killed at several steps and resumed from its checkpoint file: bit for
@@ -404,27 +416,20 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
 #[test]
 fn fault_ode_resumes_bit_identically_from_a_checkpoint() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
-    let dir = std::env::temp_dir().join(format!("rsf-fault-ode-resume-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let t_end = 60.0 * SECONDS_PER_YEAR;
     check_kill_and_resume(
+        "fault-ode-resume",
         || fault_ode(&bp1, &grid, 1e-6),
-        t_end,
+        60.0 * SECONDS_PER_YEAR,
         |rows| {
             // In creep, at the first fast step (an event), and just after it.
-            let fast = rows
-                .iter()
-                .position(|r| r.1 >= 1e-3)
-                .unwrap_or(rows.len() / 2);
+            let fast = first_fast_step(rows);
             vec![1, rows.len() / 4, fast, fast + 1]
         },
-        &dir,
     );
     let mut ode = fault_ode(&bp1, &grid, 1e-6);
     let implicit = rsf::Checkpoint::new(2, ode.state().clone());
     let e = ode.restore(&implicit).unwrap_err();
     assert!(e.to_string().contains("method"), "{e}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The switching run killed in its first quasi-dynamic phase, at the step that crosses
@@ -433,20 +438,16 @@ fn fault_ode_resumes_bit_identically_from_a_checkpoint() {
 #[test]
 fn switching_run_resumes_bit_identically_in_either_phase() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
-    let dir = std::env::temp_dir().join(format!("rsf-switching-resume-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let t_end = 100.0 * SECONDS_PER_YEAR;
     check_kill_and_resume(
+        "switching-resume",
         || switching_run(&bp1, &grid),
-        t_end,
+        100.0 * SECONDS_PER_YEAR,
         |rows| {
             let fast = rows.iter().position(|r| r.1 >= 1e-3).unwrap();
             let back = fast + rows[fast..].iter().position(|r| r.1 < 1e-4).unwrap();
             vec![3, fast, fast + 1, (fast + back) / 2, back, back + 1]
         },
-        &dir,
     );
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Options of the small BP1's fault ODE at tolerance 1e-6 with `kernel` and `threads`.
@@ -773,11 +774,6 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
         OdeIntegrator::Auto,
         OdeIntegrator::Rosenbrock,
     ] {
-        let dir = std::env::temp_dir().join(format!(
-            "rsf-fault-ode-{integrator}-resume-{}",
-            std::process::id()
-        ));
-        std::fs::create_dir_all(&dir).unwrap();
         let make = || {
             let model = bp1.model(&grid, false).unwrap();
             let options = rsf::fault_ode::FaultOdeOptions {
@@ -802,18 +798,14 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
             assert!(st.switches >= 2 && st.explicit_steps > 0, "{st:?}");
         }
         check_kill_and_resume(
+            &format!("fault-ode-{integrator}-resume"),
             make,
             60.0 * SECONDS_PER_YEAR,
             |rows| {
-                let fast = rows
-                    .iter()
-                    .position(|r| r.1 >= 1e-3)
-                    .unwrap_or(rows.len() / 2);
+                let fast = first_fast_step(rows);
                 vec![1, 26, rows.len() / 4, fast, fast + 1, rows.len() - 2]
             },
-            &dir,
         );
-        std::fs::remove_dir_all(&dir).ok();
     }
 }
 

@@ -7,7 +7,7 @@
 //! first event at nearly the same time.
 #![cfg(feature = "halfspace")]
 
-use crate::common::within;
+use crate::common::{mixed_slip, relative_product_difference, within};
 use faer::Mat;
 use rsf::direct::Condensation;
 use rsf::fault_operator::FaultOperator;
@@ -562,21 +562,14 @@ fn a_large_fault_gets_the_hierarchical_half_space_operator() {
         report.low_rank_blocks > 0 && report.relative_error <= 1e-4,
         "{report}"
     );
-    let m = dense.dim();
-    let x: Vec<f64> = (0..m).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
-    let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
-    dense
-        .subtract_product(&x, &mut a, Parallelism::SEQ)
-        .unwrap();
-    h.subtract_product(&x, &mut b, Parallelism::SEQ).unwrap();
-    let norm = |v: &[f64]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
-    let diff: Vec<f64> = a.iter().zip(&b).map(|(p, q)| p - q).collect();
-    let e = norm(&diff) / norm(&a);
+    let x = mixed_slip(dense.dim());
+    let e = relative_product_difference(&mut dense, &mut h, &x);
     eprintln!("‖(S_bem − S_H) x‖/‖S_bem x‖ = {e:e}");
     assert!(e < 1e-3, "{e:e}");
     // A non-finite slip gives a non-finite product (the step is rejected), not an error.
-    let mut nan = x.clone();
+    let mut nan = x;
     nan[3] = f64::NAN;
+    let mut b = vec![0.0; nan.len()];
     h.subtract_product(&nan, &mut b, Parallelism::SEQ).unwrap();
     assert!(b.iter().any(|v| !v.is_finite()));
     for bad in [

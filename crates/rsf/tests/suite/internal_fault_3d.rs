@@ -7,9 +7,9 @@
 //! the fault ODE (condensed onto the jumps) and the implicit scheme agree.
 use crate::common::{
     assert_first_order, assert_first_order_with_normal_stress, fault_ode_last_slip,
-    history_difference, implicit_last_slip, implicit_slip_errors, internal_fault_displacements,
-    largest_difference, largest_slip, partly_stuck_history, run_tresca_steps, slip_and_jump,
-    QuasiDynamic,
+    history_difference, implicit_last_slip, implicit_scheme, implicit_slip_errors,
+    internal_fault_displacements, largest_difference, largest_slip, partly_stuck_history,
+    run_tresca_steps, slip_and_jump, tight_fault_ode, QuasiDynamic,
 };
 use rsf::fem::{cuboid, SimplexMesh};
 use rsf::normal_stress::NormalStress;
@@ -397,13 +397,7 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
     let params = crate::normal_stress::params();
     let builder = |normal_stress| crate::normal_stress::quasi_dynamic(model.clone(), normal_stress);
     let ode = |normal_stress| {
-        let mut ode = builder(normal_stress)
-            .time_step(1e-3)
-            .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-                tolerance: 1e-9,
-                ..Default::default()
-            })
-            .unwrap();
+        let mut ode = tight_fault_ode(builder(normal_stress));
         let mut last = SlipAndNormalStress::default();
         rsf::run_until(&mut ode, within(t_end), &mut [&mut last]).unwrap();
         last
@@ -418,11 +412,7 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
     assert!(slip_scale > 0.0 && sigma_change > 1e-3 * params.sigma_n);
     let mut errors = Vec::new();
     for steps in [25, 50, 100, 200] {
-        let mut sim = builder(NormalStress::FromSlip)
-            .time_step(t_end / steps as f64)
-            .solver(SolverKind::Direct)
-            .build()
-            .unwrap();
+        let mut sim = implicit_scheme(builder(NormalStress::FromSlip), t_end, steps);
         let mut last = SlipAndNormalStress::default();
         sim.run(steps, &mut [&mut last]).unwrap();
         let e_slip = largest_difference(&last.0, &reference.0) / slip_scale;

@@ -199,31 +199,26 @@ fn multigrid_on_a_graded_bisection_hierarchy_converges_at_a_rate_independent_of_
 fn study_of_multigrid_on_graded_meshes() {
     eprintln!("| mesh | levels | dofs | iterations | V-cycles | rate | s |");
     eprintln!("|---|---|---|---|---|---|---|");
+    // The rows of one hierarchy `(h, half, patch)`: the default iteration's, and with
+    // `classical` the classical one's too.
+    let rows = |mesh: &str, levels, (h, half, patch), classical: bool| {
+        let m = model(h, half, patch);
+        row(mesh, levels, &solve(&m, TnnmgOptions::default(), 500));
+        if classical {
+            let name = format!("{mesh}, classical");
+            row(&name, levels, &solve(&m, TnnmgOptions::classical(), 500));
+        }
+    };
     for g in [0.25, 0.5, 1.0] {
         for levels in 1..=5 {
-            let (h, half, patch) = graded(levels, g);
-            let m = model(h, half, patch);
-            row(
-                &format!("bisection, g = {g}"),
-                levels,
-                &solve(&m, TnnmgOptions::default(), 500),
-            );
-            row(
-                &format!("bisection, g = {g}, classical"),
-                levels,
-                &solve(&m, TnnmgOptions::classical(), 500),
-            );
+            let mesh = format!("bisection, g = {g}");
+            rows(&mesh, levels, graded(levels, g), true);
         }
     }
     for aspect in [1.0, 5.0, 20.0] {
         for levels in 1..=3 {
-            let (h, half, patch) = tensor(levels, aspect);
-            let m = model(h, half, patch);
-            row(
-                &format!("tensor, aspect {aspect}"),
-                levels,
-                &solve(&m, TnnmgOptions::default(), 500),
-            );
+            let mesh = format!("tensor, aspect {aspect}");
+            rows(&mesh, levels, tensor(levels, aspect), false);
         }
     }
 }

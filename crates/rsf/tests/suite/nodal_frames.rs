@@ -128,6 +128,21 @@ impl<const D: usize> Track<D> {
     fn slip(&self) -> f64 {
         self.u_x0.last().unwrap()[0] - self.u_x0[0][0]
     }
+    /// Asserts that the run holds a slip event (its peak slip rate above 1e-3 m/s) and that
+    /// `other`'s first slip (to 1e-6 s), peak slip rate and slip (each to 1e-6 of its own)
+    /// are this run's.
+    fn assert_same_event(&self, other: &Self) {
+        let (t1, t2) = (self.first_slip(), other.first_slip());
+        let (p1, p2) = (self.peak(), other.peak());
+        let (s1, s2) = (self.slip(), other.slip());
+        assert!(p1 > 1e-3, "the window holds a slip event (peak {p1:e} m/s)");
+        assert!((t1 - t2).abs() <= 1e-6, "first slip {t1} vs {t2} s");
+        assert!((p1 - p2).abs() <= 1e-6 * p1, "peak slip rate {p1} vs {p2}");
+        assert!(
+            (s1 - s2).abs() <= 1e-6 * s1.abs(),
+            "slip at x0 {s1} vs {s2}"
+        );
+    }
     /// Steps whose fixed point iteration counts differ, and whether any differs by more
     /// than one.
     fn fpi_differences(&self, other: &Self) -> (usize, bool) {
@@ -199,13 +214,7 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
         straight.fpi.iter().sum::<usize>(),
         turned.fpi.iter().sum::<usize>()
     );
-    assert!(p1 > 1e-3, "the window holds a slip event (peak {p1:e} m/s)");
-    assert!((t1 - t2).abs() <= 1e-6, "first slip {t1} vs {t2} s");
-    assert!((p1 - p2).abs() <= 1e-6 * p1, "peak slip rate {p1} vs {p2}");
-    assert!(
-        (s1 - s2).abs() <= 1e-6 * s1.abs(),
-        "slip at x0 {s1} vs {s2}"
-    );
+    straight.assert_same_event(&turned);
     // ln V of the largest slip rate at every step, to 1e-6.
     let worst_ln_v = straight.worst_ln_v(&turned);
     assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
@@ -684,13 +693,7 @@ fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
         turned.fpi.iter().sum::<usize>(),
         straight.t.len()
     );
-    assert!(p1 > 1e-3, "the window holds a slip event (peak {p1:e} m/s)");
-    assert!((f1 - f2).abs() <= 1e-6, "first slip {f1} vs {f2} s");
-    assert!((p1 - p2).abs() <= 1e-6 * p1, "peak slip rate {p1} vs {p2}");
-    assert!(
-        (s1 - s2).abs() <= 1e-6 * s1.abs(),
-        "slip at x0 {s1} vs {s2}"
-    );
+    straight.assert_same_event(&turned);
     assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
     // The Cartesian velocity of x0 is the rotated one.
     for (a, b) in straight.v_x0.iter().zip(&turned.v_x0) {

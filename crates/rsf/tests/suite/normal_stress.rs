@@ -3,7 +3,7 @@
 //! the fault ODE's normal stress against a full static solve at the same slip, zero change
 //! on a fault that is a plane of mirror symmetry, the implicit scheme converging to the
 //! fault ODE, and typed refusals.
-use crate::common::{assert_first_order_with_normal_stress, within};
+use crate::common::{assert_first_order_with_normal_stress, quasi_dynamic_of, within};
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
@@ -36,14 +36,7 @@ pub(crate) fn quasi_dynamic<const D: usize>(
     model: Model<D>,
     normal_stress: NormalStress,
 ) -> SimulationBuilder<D, AsinhLaw, Aging, Quasistatic, D> {
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    SimulationBuilder::new(model)
-        .friction(AsinhLaw::new(params()).unwrap())
-        .state_law(Aging::new(params().l).unwrap())
-        .initial_state((params().l / 1e-4f64).ln())
-        .integrator(Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
-        .normal_stress(normal_stress)
+    quasi_dynamic_of(model, params(), 1e-4, 1e10 / 2.5).normal_stress(normal_stress)
 }
 
 /// The fault ODE of [`quasi_dynamic`] at tolerance 1e-9.

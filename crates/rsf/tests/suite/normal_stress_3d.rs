@@ -99,6 +99,14 @@ fn probed_s_n(ode: &mut FaultOde<3, AsinhLaw, Aging>, delta: f64) -> Vec<Vec<f64
     s_n
 }
 
+/// The hierarchical kernel at accuracy `epsilon`, leaves of 8 nodes.
+fn hierarchical(epsilon: f64) -> FaultKernel {
+    FaultKernel::Hierarchical {
+        epsilon,
+        leaf_size: 8,
+    }
+}
+
 /// On a dipping 3-D fault the compressed `S_N` (the ℋ-matrix of its `m × m` embedding,
 /// node `k`'s row read back from its first slip unknown's) is the dense `S_N` to ε:
 /// `‖S_N,H − S_N‖_F/‖S_N‖_F` measured over every entry (each column probed through the
@@ -109,10 +117,7 @@ fn probed_s_n(ode: &mut FaultOde<3, AsinhLaw, Aging>, delta: f64) -> Vec<Vec<f64
 fn a_compressed_3d_normal_stress_operator_is_the_dense_one_to_its_accuracy() {
     let model = dipping_fault([9, 65, 5]);
     let epsilon = 1e-6;
-    let kernel = FaultKernel::Hierarchical {
-        epsilon,
-        leaf_size: 8,
-    };
+    let kernel = hierarchical(epsilon);
     let mut dense = fault_ode(model.clone(), FaultKernel::Dense, 1);
     let mut compressed = fault_ode(model.clone(), kernel, 1);
     assert!(dense.normal_kernel_report().is_none());
@@ -193,10 +198,7 @@ fn normal_stress_at(ode: &mut FaultOde<3, AsinhLaw, Aging>, stops: &[f64]) -> Ve
 fn a_3d_run_with_compressed_operators_follows_the_dense_normal_stress() {
     let model = dipping_fault([9, 65, 5]);
     let epsilon = 1e-6;
-    let kernel = FaultKernel::Hierarchical {
-        epsilon,
-        leaf_size: 8,
-    };
+    let kernel = hierarchical(epsilon);
     let stops = [0.6, 1.2, 1.8, 2.4, 3.0];
     let dense = normal_stress_at(&mut fault_ode(model.clone(), FaultKernel::Dense, 1), &stops);
     let mut ode = fault_ode(model, kernel, 1);

@@ -170,19 +170,29 @@ fn check_fields(c: &mut Against, s: &SliderScene) {
     c.real("material().youngs_modulus", m.youngs_modulus, paper::E);
     c.real("material().poisson_ratio", m.poisson_ratio, paper::NU);
     // Table 6.1: friction.
-    c.real("sigma_n_pa (σ̄_n)", s.sigma_n_pa, paper::SIGMA_N);
-    c.real("mu0", s.mu0, paper::MU0);
-    c.real("a", s.a, paper::A);
-    c.real("b", s.b, paper::B);
-    c.real("v0_m_per_s (V0)", s.v0_m_per_s, paper::V0);
-    c.real("l_m (L)", s.l_m, paper::L);
+    // Each as the scene's field and as the friction parameter it gives.
     let p = s.rate_state_params();
-    c.real("rate_state_params().sigma_n", p.sigma_n, paper::SIGMA_N);
-    c.real("rate_state_params().mu0", p.mu0, paper::MU0);
-    c.real("rate_state_params().a", p.a, paper::A);
-    c.real("rate_state_params().b", p.b, paper::B);
-    c.real("rate_state_params().v0", p.v0, paper::V0);
-    c.real("rate_state_params().l", p.l, paper::L);
+    for (field, got, parameter, got_parameter, expected) in [
+        (
+            "sigma_n_pa (σ̄_n)",
+            s.sigma_n_pa,
+            "sigma_n",
+            p.sigma_n,
+            paper::SIGMA_N,
+        ),
+        ("mu0", s.mu0, "mu0", p.mu0, paper::MU0),
+        ("a", s.a, "a", p.a, paper::A),
+        ("b", s.b, "b", p.b, paper::B),
+        ("v0_m_per_s (V0)", s.v0_m_per_s, "v0", p.v0, paper::V0),
+        ("l_m (L)", s.l_m, "l", p.l, paper::L),
+    ] {
+        c.real(field, got, expected);
+        c.real(
+            &format!("rate_state_params().{parameter}"),
+            got_parameter,
+            expected,
+        );
+    }
     // The cutoff velocity V_m(α) (2.13) at the initial state and at steady sliding at V_D.
     for alpha in [paper::ALPHA0, (paper::L / paper::V_D).ln()] {
         c.real(

@@ -4,7 +4,7 @@
 //! the builder solves as the initial equilibrium; a fault whose every pair is prescribed
 //! builds a model without frictional nodes, which a simulation refuses by name; the static
 //! problem is solved again by `StaticSolver`, watched (progress, a time limit) if asked.
-use crate::common::plane_x0;
+use crate::common::{parameter_name, plane_x0};
 use std::sync::{Arc, Mutex};
 
 use rsf::direct::{DirectOptions, DirectSolver};
@@ -158,10 +158,6 @@ fn an_affine_field_held_on_the_boundary_is_the_static_solution() {
 /// model of some columns.
 #[test]
 fn a_slip_or_a_held_displacement_the_model_cannot_take_is_refused_by_name() {
-    let named = |e: Error| match e {
-        Error::InvalidParameter { name, .. } => name,
-        e => panic!("{e}"),
-    };
     let block = || {
         ModelBuilder::new(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap())
             .material(Material::new(1e10, 0.25, 2700.0))
@@ -172,18 +168,18 @@ fn a_slip_or_a_held_displacement_the_model_cannot_take_is_refused_by_name() {
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([1.0, 0.0])))
         .build()
         .unwrap_err();
-    assert_eq!(named(e), "internal_slip");
+    assert_eq!(parameter_name(e), "internal_slip");
     let e = builder(4, 0)
         .internal_slip_at(|_| Some(PrescribedSlip::Cartesian([1e-3, 0.0, 0.0])))
         .build()
         .unwrap_err();
     assert!(e.to_string().contains("normal part"), "{e}");
-    assert_eq!(named(e), "internal_slip");
+    assert_eq!(parameter_name(e), "internal_slip");
     let e = builder(4, 0)
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([f64::NAN, 0.0])))
         .build()
         .unwrap_err();
-    assert_eq!(named(e), "internal_slip");
+    assert_eq!(parameter_name(e), "internal_slip");
     // A fault through the whole cube: the pairs on the clamped bottom are held.
     let through = ModelBuilder::new(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap())
         .material(Material::new(1e10, 0.25, 2700.0))
@@ -202,7 +198,7 @@ fn a_slip_or_a_held_displacement_the_model_cannot_take_is_refused_by_name() {
         .frictional_boundary(Part::predicate("side", |x| x[0] < -1.0 + 1e-9))
         .build_columns(&vec![true; nv], |_| Ok(vec![0.0; 3 * nv]))
         .unwrap_err();
-    assert_eq!(named(e), "dirichlet_displacement");
+    assert_eq!(parameter_name(e), "dirichlet_displacement");
     let e = block()
         .dirichlet_displacement(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), |_| {
             [f64::INFINITY, 0.0, 0.0]
@@ -210,7 +206,7 @@ fn a_slip_or_a_held_displacement_the_model_cannot_take_is_refused_by_name() {
         .frictional_boundary(Part::predicate("side", |x| x[0] < -1.0 + 1e-9))
         .build()
         .unwrap_err();
-    assert_eq!(named(e), "dirichlet");
+    assert_eq!(parameter_name(e), "dirichlet");
 }
 
 /// The static problem solved again by `StaticSolver`: the direct solver gives the build's

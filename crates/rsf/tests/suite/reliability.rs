@@ -403,6 +403,18 @@ fn negative_b_only_by_explicit_opt_in() {
     assert!(SliderScene::from_toml("allow_negative_B = true").is_err());
 }
 
+/// The scales of `model`'s problem (its stiffness, mass, load, initial displacement and
+/// fixed dofs).
+fn problem_scales(model: &rsf::Model<2>) -> rsf::model::ProblemScales {
+    rsf::model::ProblemScales::new(
+        &model.stiffness,
+        model.mass.as_ref(),
+        &model.load,
+        &model.initial_displacement,
+        &model.fixed,
+    )
+}
+
 /// The conditioning estimate (docs/reliability.md, "Conditioning"): the scene defaults and
 /// the bounds of the per-field checks pass; a scene whose values are each admissible but
 /// whose problem is not representable (gravity 1e200 m/s²: |u₀| ≈ 1e195 m) or whose slip
@@ -441,13 +453,7 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
         },
     ] {
         let model = ok.build_model().unwrap_or_else(|e| panic!("{e}: {ok:?}"));
-        let s = rsf::model::ProblemScales::new(
-            &model.stiffness,
-            model.mass.as_ref(),
-            &model.load,
-            &model.initial_displacement,
-            &model.fixed,
-        );
+        let s = problem_scales(&model);
         println!("level {}: {s:?}", ok.level);
     }
     // Not representable: the gravity sag overflows the squares.
@@ -484,14 +490,7 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
     ]
     .into_iter()
     .fold(0.0_f64, f64::max);
-    let estimate = rsf::model::ProblemScales::new(
-        &model.stiffness,
-        model.mass.as_ref(),
-        &model.load,
-        &model.initial_displacement,
-        &model.fixed,
-    )
-    .displacement_estimate;
+    let estimate = problem_scales(&model).displacement_estimate;
     let d = d.max(estimate);
     SliderScene {
         l_m: 2.0 * rsf::model::SLIP_RESOLUTION * d,

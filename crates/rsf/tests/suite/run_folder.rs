@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::{snapshot, within};
+use crate::common::{slider, snapshot, within};
 use rsf::observe::{FileMode, PointSeries};
 use rsf::run_folder::RunFolder;
 use rsf::run_folder::{check_output_size, check_window, read_checkpoint};
@@ -74,10 +74,8 @@ fn an_output_that_is_a_folder_or_an_out_that_is_a_file_is_refused_first() {
 fn a_checkpoint_is_checked_against_the_scene_and_the_rows() {
     let dir = temp_dir("rows");
     let scene = SliderScene {
-        level: 1,
-        steps: 10,
         end_time_s: 0.01,
-        ..SliderScene::default()
+        ..slider(1, 10)
     };
     let mut sim = scene.build().unwrap();
     let x0 = sim
@@ -333,10 +331,8 @@ fn a_folder_of_another_program_is_refused_and_left_byte_identical() {
 #[test]
 fn allow_change_with_an_unknown_field_names_the_known_ones() {
     let scene = SliderScene {
-        level: 1,
-        steps: 10,
         end_time_s: 0.01,
-        ..SliderScene::default()
+        ..slider(1, 10)
     };
     let fingerprint = scene.fingerprint().with("window", "0e0,1e-2");
     let missing = temp_dir("allow-change").join("no-checkpoint.bin");

@@ -6,9 +6,9 @@ use rsf::fem::cuboid;
 use rsf::hmatrix::HOptions;
 use rsf::model::{PrescribedSlip, SchurColumns, StaticMethod, StaticOptions};
 use rsf::nonsmooth::Stopping;
-use rsf::{Error, Model, ModelBuilder};
+use rsf::{Model, ModelBuilder};
 
-use crate::common::{cube_with_buried_fault, with_buried_fault};
+use crate::common::{cube_with_buried_fault, parameter_name, with_buried_fault};
 
 /// The cube of 4³ boxes refined `levels` times (a hierarchy for multigrid) with its fault.
 fn refined(levels: usize) -> ModelBuilder<3> {
@@ -158,10 +158,6 @@ fn s_compressed_from_its_columns_is_the_direct_s_within_epsilon() {
 /// output of another shape, a fault whose every slip is prescribed (no slip unknowns).
 #[test]
 fn columns_that_cannot_be_computed_are_refused_by_name() {
-    let named = |e: Error| match e {
-        Error::InvalidParameter { name, .. } => name,
-        e => panic!("{e}"),
-    };
     let unrefined = with_buried_fault(ModelBuilder::new(
         cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(),
     ))
@@ -169,18 +165,18 @@ fn columns_that_cannot_be_computed_are_refused_by_name() {
     .unwrap();
     let e =
         SchurColumns::new(&unrefined, StaticOptions::method(StaticMethod::Multigrid)).unwrap_err();
-    assert_eq!(named(e), "static_solver");
+    assert_eq!(parameter_name(e), "static_solver");
     let columns = SchurColumns::new(&unrefined, StaticOptions::default()).unwrap();
     let m = columns.dim();
     let mut out = faer::Mat::zeros(m, 1);
     let e = columns.columns(&[m], out.as_mut()).unwrap_err();
-    assert_eq!(named(e), "cols");
+    assert_eq!(parameter_name(e), "cols");
     let e = columns.columns(&[0, 1], out.as_mut()).unwrap_err();
-    assert_eq!(named(e), "cols");
+    assert_eq!(parameter_name(e), "cols");
     let prescribed = refined(1)
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
         .build()
         .unwrap();
     let e = SchurColumns::new(&prescribed, StaticOptions::default()).unwrap_err();
-    assert_eq!(named(e), "frictional_boundary");
+    assert_eq!(parameter_name(e), "frictional_boundary");
 }

@@ -9,12 +9,9 @@ use rsf_scenes::SliderScene;
 use sprs::{CsMat, TriMat};
 
 fn slider() -> Model<2> {
-    SliderScene {
-        level: 2,
-        ..SliderScene::default()
-    }
-    .build_model()
-    .unwrap()
+    crate::common::with_level(SliderScene::default(), 2)
+        .build_model()
+        .unwrap()
 }
 
 /// Largest entry of `|a − b|` relative to the largest entry of `|a|`, over the union of

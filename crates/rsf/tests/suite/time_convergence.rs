@@ -83,6 +83,21 @@ fn constant_rate_runs() -> &'static [[f64; 2]; 3] {
     })
 }
 
+/// The Richardson limit `2 q(τ/4) − q(τ/2)` of the quantity `k` of `runs` (at N = 2000,
+/// 4000, 8000).
+fn limit(runs: &[[f64; 2]; 3], k: usize) -> f64 {
+    2.0 * runs[2][k] - runs[1][k]
+}
+
+/// Asserts that the limits `a` and `b` of the quantity `name` differ by at most a tenth of
+/// `finest`.
+fn assert_same_limit(name: &str, (a, b): (f64, f64), finest: f64) {
+    assert!(
+        (a - b).abs() <= 0.1 * finest,
+        "{name}: extrapolated limits {a:e} and {b:e} differ by more than {finest:e}/10"
+    );
+}
+
 fn check_first_order(integrator: Integrator) {
     let runs = runs(integrator);
     eprintln!("{integrator:?}: [Δu (m), t_s (s)] for N = 2000, 4000, 8000: {runs:?}");
@@ -110,16 +125,13 @@ fn backward_euler_is_first_order_in_tau() {
 fn newmark_and_backward_euler_have_the_same_limit() {
     let (nm, be) = (runs(Integrator::Newmark), runs(Integrator::BackwardEuler));
     for (k, name) in NAMES.iter().enumerate() {
-        let (a, b) = (2.0 * nm[2][k] - nm[1][k], 2.0 * be[2][k] - be[1][k]);
+        let (a, b) = (limit(nm, k), limit(be, k));
         let finest = (nm[2][k] - be[2][k]).abs();
         eprintln!(
             "{name}: limits {a:.9e} (Newmark), {b:.9e} (backward Euler); \
              τ/4 values differ by {finest:.2e}"
         );
-        assert!(
-            (a - b).abs() <= 0.1 * finest,
-            "{name}: extrapolated limits {a:e} and {b:e} differ by more than {finest:e}/10"
-        );
+        assert_same_limit(name, (a, b), finest);
     }
 }
 
@@ -133,14 +145,10 @@ fn constant_slip_rate_first_slip_time_is_first_order_with_the_same_limit() {
     let p = observed_order(csr.map(|r| r[1]));
     eprintln!("constant slip rate: observed order of t_s: {p:.3}");
     assert!((p - 1.0).abs() <= ORDER_TOL, "observed order of t_s {p:.3}");
-    let (a, b) = (2.0 * csr[2][1] - csr[1][1], 2.0 * be[2][1] - be[1][1]);
     let finest = (csr[2][1] - be[2][1])
         .abs()
         .max((be[2][1] - be[1][1]).abs());
-    assert!(
-        (a - b).abs() <= 0.1 * finest,
-        "t_s: extrapolated limits {a:e} and {b:e} differ by more than {finest:e}/10"
-    );
+    assert_same_limit("t_s", (limit(csr, 1), limit(be, 1)), finest);
 }
 
 /// In the loading phase (deep stick and creep, slip rates 1e-25 … 2e-8 m/s) the slip rate
@@ -152,7 +160,7 @@ fn constant_slip_rate_first_slip_time_is_first_order_with_the_same_limit() {
 #[test]
 fn constant_slip_rate_resolves_the_loading_phase_better() {
     let (csr, be) = (constant_rate_runs(), runs(Integrator::Newmark));
-    let limit = 2.0 * be[2][0] - be[1][0];
+    let limit = limit(be, 0);
     let (e_csr, e_be) = ((csr[0][0] - limit).abs(), (be[0][0] - limit).abs());
     eprintln!(
         "Δu at N = 2000 against the limit {limit:.6e} m: constant slip rate {:.2e}, backward \

@@ -132,6 +132,42 @@ fn on_thread_ranks(scene: &Slider3dScene, size: usize, columns: bool) -> Vec<Vec
     })
 }
 
+/// Asserts that the one-rank run `one` has `STEPS` steps and that at 2 and 3 ranks every
+/// rank's trajectory of `on(size)` (one per rank) has its bits.
+fn assert_every_rank_has_the_bits_of(one: &[Vec<u64>], on: impl Fn(usize) -> Vec<Vec<Vec<u64>>>) {
+    assert_eq!(one.len(), STEPS);
+    for size in [2, 3] {
+        for (rank, trajectory) in on(size).iter().enumerate() {
+            assert_eq!(trajectory.len(), one.len(), "rank {rank} of {size}: steps");
+            for (k, (a, b)) in trajectory.iter().zip(one).enumerate() {
+                assert!(a == b, "rank {rank} of {size}: step {k} differs");
+            }
+        }
+    }
+}
+
+/// The differences of the trajectory `a` from `b` (each step's bits: the time, the step
+/// size, the velocity of every dof of `scene`'s model, the states), whose times and step
+/// sizes are asserted the same: the largest velocity difference, the largest velocity of
+/// `b` (m/s) and the largest state difference (absolute, or relative above 1).
+fn differences(a: &[Vec<u64>], b: &[Vec<u64>], scene: &Slider3dScene) -> (f64, f64, f64) {
+    let dofs = 3 * scene.build_model().unwrap().num_nodes();
+    let f = |bits: &[u64]| bits.iter().map(|&b| f64::from_bits(b)).collect::<Vec<_>>();
+    let (mut v_diff, mut v_max, mut alpha_diff) = (0f64, 0f64, 0f64);
+    for (a, b) in a.iter().zip(b) {
+        let (a, b) = (f(a), f(b));
+        assert_eq!(a[..2], b[..2], "time and step size");
+        for (x, y) in a[2..2 + dofs].iter().zip(&b[2..2 + dofs]) {
+            v_diff = v_diff.max((x - y).abs());
+            v_max = v_max.max(y.abs());
+        }
+        for (x, y) in a[2 + dofs..].iter().zip(&b[2 + dofs..]) {
+            alpha_diff = alpha_diff.max((x - y).abs() / y.abs().max(1.0));
+        }
+    }
+    (v_diff, v_max, alpha_diff)
+}
+
 /// The 3-D slider at level 1 (99 nodes, Newmark, the scene's inexact inner solves) for 48
 /// steps of 0.25 s (to t = 12 s: the largest velocity rises to about 1e-3 m/s as the first
 /// event nucleates) with TNNMG on 1, 2 and 3 thread ranks: every rank's whole trajectory
@@ -144,32 +180,11 @@ fn on_thread_ranks(scene: &Slider3dScene, size: usize, columns: bool) -> Vec<Vec
 fn the_3d_slider_has_the_same_bits_on_1_2_and_3_ranks() {
     let scene = scene();
     let one = on_ranks(&scene, 1).pop().unwrap();
-    assert_eq!(one.len(), STEPS);
-    for size in [2, 3] {
-        for (rank, trajectory) in on_ranks(&scene, size).iter().enumerate() {
-            assert_eq!(trajectory.len(), one.len(), "rank {rank} of {size}: steps");
-            for (k, (a, b)) in trajectory.iter().zip(&one).enumerate() {
-                assert!(a == b, "rank {rank} of {size}: step {k} differs");
-            }
-        }
-    }
+    assert_every_rank_has_the_bits_of(&one, |size| on_ranks(&scene, size));
 
     let alone = run(&scene, None);
     assert_eq!(alone.len(), one.len());
-    let dofs = 3 * scene.build_model().unwrap().num_nodes();
-    let f = |bits: &[u64]| bits.iter().map(|&b| f64::from_bits(b)).collect::<Vec<_>>();
-    let (mut v_diff, mut v_max, mut alpha_diff) = (0f64, 0f64, 0f64);
-    for (a, b) in one.iter().zip(&alone) {
-        let (a, b) = (f(a), f(b));
-        assert_eq!(a[..2], b[..2], "time and step size");
-        for (x, y) in a[2..2 + dofs].iter().zip(&b[2..2 + dofs]) {
-            v_diff = v_diff.max((x - y).abs());
-            v_max = v_max.max(y.abs());
-        }
-        for (x, y) in a[2 + dofs..].iter().zip(&b[2 + dofs..]) {
-            alpha_diff = alpha_diff.max((x - y).abs() / y.abs().max(1.0));
-        }
-    }
+    let (v_diff, v_max, alpha_diff) = differences(&one, &alone, &scene);
     eprintln!(
         "one rank against one process: velocities {v_diff:.3e} (largest {v_max:.3e} m/s), \
          states {alpha_diff:.3e}"
@@ -193,27 +208,9 @@ fn the_3d_slider_has_the_same_bits_on_1_2_and_3_ranks() {
 fn the_3d_slider_held_in_columns_has_the_same_bits_on_1_2_and_3_ranks() {
     let scene = scene();
     let one = on_thread_ranks(&scene, 1, true).pop().unwrap();
-    assert_eq!(one.len(), STEPS);
-    for size in [2, 3] {
-        for (rank, trajectory) in on_thread_ranks(&scene, size, true).iter().enumerate() {
-            assert_eq!(trajectory.len(), one.len(), "rank {rank} of {size}: steps");
-            for (k, (a, b)) in trajectory.iter().zip(&one).enumerate() {
-                assert!(a == b, "rank {rank} of {size}: step {k} differs");
-            }
-        }
-    }
+    assert_every_rank_has_the_bits_of(&one, |size| on_thread_ranks(&scene, size, true));
     let whole = on_ranks(&scene, 1).pop().unwrap();
-    let dofs = 3 * scene.build_model().unwrap().num_nodes();
-    let f = |bits: &[u64]| bits.iter().map(|&b| f64::from_bits(b)).collect::<Vec<_>>();
-    let (mut v_diff, mut v_max) = (0f64, 0f64);
-    for (a, b) in one.iter().zip(&whole) {
-        let (a, b) = (f(a), f(b));
-        assert_eq!(a[..2], b[..2], "time and step size");
-        for (x, y) in a[2..2 + dofs].iter().zip(&b[2..2 + dofs]) {
-            v_diff = v_diff.max((x - y).abs());
-            v_max = v_max.max(y.abs());
-        }
-    }
+    let (v_diff, v_max, _) = differences(&one, &whole, &scene);
     eprintln!("columns and equilibrium on ranks against the whole model: velocities {v_diff:.3e} (largest {v_max:.3e} m/s)");
     assert!(
         v_max > 0.0 && v_diff <= 1e-9 * v_max,

@@ -10,7 +10,7 @@
 //! `v_y = 0` on Γ_F (bilateral contact). Warm start: `v_prev` with the Dirichlet values.
 
 use crate::common::{
-    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
+    newmark_rhs, slider_velocity_problem, steady_shear_strain, tnnmg_on, uniform_friction,
     with_dirichlet_values,
 };
 use rsf::direct::{DirectOptions, DirectSolver};
@@ -36,15 +36,8 @@ struct Slider {
 
 impl Slider {
     fn new(level: usize) -> Self {
-        let scene = SliderScene {
-            level,
-            steps: 10_000,
-            ..SliderScene::default()
-        };
-        let tau = scene.tau();
-        assert!((tau - 1.5e-3).abs() < 1e-15);
-        let model = scene.build_model().expect("slider model");
-        let a = newmark_velocity_matrix(&model, tau);
+        let (scene, model, a) = slider_velocity_problem(level);
+        assert!((scene.tau() - 1.5e-3).abs() < 1e-15);
         let mut top = vec![false; model.fixed.len()];
         for &i in &model.dirichlet.dofs {
             top[i] = true;

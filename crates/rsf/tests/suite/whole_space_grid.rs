@@ -60,17 +60,32 @@ fn elements(fixed: usize, centres: &[[f64; 3]], h: [f64; 2]) -> Vec<RectangleEle
         .collect()
 }
 
+/// The whole space of the grids' tests: μ = 32.04 GPa, ν = 0.25.
+fn medium() -> Medium {
+    Medium::from_shear_poisson(32.04e9, 0.25).unwrap()
+}
+
+/// The [`centres`] of the grid, the fault alone of its cells (each of area `h[0] h[1]`)
+/// and its operator in the [`medium`].
+fn grid_fault(
+    fixed: usize,
+    n: [usize; 2],
+    h: [f64; 2],
+) -> (Vec<[f64; 3]>, Model<3>, WholeSpaceGrid) {
+    let c = centres(fixed, n, h);
+    let model = Model::fault_only(c.clone(), &vec![h[0] * h[1]; c.len()], fixed).unwrap();
+    let grid = WholeSpaceGrid::fault_alone(&model, medium()).unwrap();
+    (c, model, grid)
+}
+
 #[test]
 fn the_fft_operator_is_the_element_operator() {
-    let medium = Medium::from_shear_poisson(32.04e9, 0.25).unwrap();
     let (n, h) = ([12, 9], [10.0, 12.5]);
     for fixed in 0..3 {
-        let c = centres(fixed, n, h);
-        let model = Model::fault_only(c.clone(), &vec![h[0] * h[1]; c.len()], fixed).unwrap();
-        let mut fft = WholeSpaceGrid::fault_alone(&model, medium).unwrap();
+        let (c, model, mut fft) = grid_fault(fixed, n, h);
         assert_eq!(fft.cells(), n);
         assert_eq!(fft.spacing(), h);
-        let set = ElementSet::new(medium, Space::WholeSpace, elements(fixed, &c, h)).unwrap();
+        let set = ElementSet::new(medium(), Space::WholeSpace, elements(fixed, &c, h)).unwrap();
         let mut dense =
             ElementOperator::fault_alone(&model, &set, &ElementOptions::default()).unwrap();
         let (s0, s1) = (dense.dense().unwrap(), fft.dense().unwrap());
@@ -103,41 +118,30 @@ fn grids_that_are_not_grids_are_refused() {
     let medium = Medium::from_shear_poisson(30e9, 0.25).unwrap();
     let (n, h) = ([6, 5], [10.0, 10.0]);
     let c = centres(0, n, h);
-    // The grid's error for a fault of cells at `centres` of `area` (m²) each.
-    let refused = |centres: Vec<[f64; 3]>, area: &[f64]| {
-        let model = Model::fault_only(centres, area, 0).unwrap();
-        WholeSpaceGrid::fault_alone(&model, medium).unwrap_err()
-    };
-    let area = vec![100.0; c.len() - 1];
+    use HalfSpaceOperatorError::{ElementWithoutNode, NotAtCentre, NotPlanar, TooFewNodes};
+    // The grid's error for a fault of cells at `centres` of `area` (m²) each matches
+    // `error`.
+    macro_rules! assert_refused {
+        ($centres:expr, $area:expr, $error:pat) => {{
+            let model = Model::fault_only($centres, $area, 0).unwrap();
+            let e = WholeSpaceGrid::fault_alone(&model, medium).unwrap_err();
+            assert!(matches!(e, $error), "{e}");
+        }};
+    }
+    let area = vec![100.0; c.len()];
     // A cell without its node.
-    let e = refused(c[1..].to_vec(), &area);
-    assert!(
-        matches!(e, HalfSpaceOperatorError::ElementWithoutNode { .. }),
-        "{e}"
-    );
+    assert_refused!(c[1..].to_vec(), &area[1..], ElementWithoutNode { .. });
     // A node off the grid.
     let mut moved = c.clone();
     moved[3][1] += 3.0;
-    let e = refused(moved, &vec![100.0; c.len()]);
-    assert!(
-        matches!(e, HalfSpaceOperatorError::NotAtCentre { node: 3, .. }),
-        "{e}"
-    );
+    assert_refused!(moved, &area, NotAtCentre { node: 3, .. });
     // A node off the plane.
     let mut lifted = c.clone();
     lifted[4][0] += 1.0;
-    let e = refused(lifted, &vec![100.0; c.len()]);
-    assert!(
-        matches!(e, HalfSpaceOperatorError::NotPlanar { node: 4, .. }),
-        "{e}"
-    );
+    assert_refused!(lifted, &area, NotPlanar { node: 4, .. });
     // A single row.
     let row: Vec<[f64; 3]> = (0..4).map(|i| [0.0, 10.0 * i as f64, 0.0]).collect();
-    let e = refused(row, &[100.0; 4]);
-    assert!(
-        matches!(e, HalfSpaceOperatorError::TooFewNodes { .. }),
-        "{e}"
-    );
+    assert_refused!(row, &[100.0; 4], TooFewNodes { .. });
 }
 
 /// The displacement columns: across a cell's centre the displacement jumps by the cell's
@@ -146,12 +150,10 @@ fn grids_that_are_not_grids_are_refused() {
 /// slip's field odd across the plane in the in-plane components.
 #[test]
 fn displacement_jumps_by_the_slip_across_a_cell() {
-    let medium = Medium::from_shear_poisson(32.04e9, 0.25).unwrap();
+    let medium = medium();
     let (n, h) = ([6, 5], [10.0, 12.5]);
     for fixed in 0..3 {
-        let c = centres(fixed, n, h);
-        let model = Model::fault_only(c.clone(), &vec![h[0] * h[1]; c.len()], fixed).unwrap();
-        let grid = WholeSpaceGrid::fault_alone(&model, medium).unwrap();
+        let (c, _, grid) = grid_fault(fixed, n, h);
         let m = grid.dim();
         let axes: Vec<usize> = (0..3).filter(|&a| a != fixed).collect();
         let k = 11;

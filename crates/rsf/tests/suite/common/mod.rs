@@ -8,12 +8,22 @@
 
 use std::path::{Path, PathBuf};
 
+mod internal_fault;
+pub use internal_fault::{
+    assert_first_order, assert_first_order_with_normal_stress, fault_ode_last_slip,
+    implicit_last_slip, implicit_scheme, implicit_slip_errors, quasi_dynamic_of, tight_fault_ode,
+    QuasiDynamic,
+};
+mod operators;
+pub use operators::{mixed_slip, relative_product_difference};
+mod scenes;
+pub use scenes::slider;
 mod shared;
 pub use shared::{small_bp1, snapshot};
 mod velocity;
 pub use velocity::{
-    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
-    with_dirichlet_values,
+    newmark_rhs, newmark_velocity_matrix, slider_velocity_problem, steady_shear_strain, tnnmg_on,
+    uniform_friction, with_dirichlet_values,
 };
 
 use rsf::fem::{spmv_add, SparseMatrix};
@@ -419,6 +429,17 @@ pub fn within(time: f64) -> rsf::Until {
     }
 }
 
+/// The parameter an [`rsf::Error::InvalidParameter`] names.
+///
+/// # Panics
+/// With the error's message if `e` is another error.
+pub fn parameter_name(e: rsf::Error) -> String {
+    match e {
+        rsf::Error::InvalidParameter { name, .. } => name,
+        e => panic!("{e}"),
+    }
+}
+
 /// A fresh directory under the system's temporary directory for one test's files.
 pub fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rsf-test-{name}-{}", std::process::id()));
@@ -469,83 +490,11 @@ pub fn cube_with_buried_fault(n: usize, levels: usize) -> rsf::ModelBuilder<3> {
     with_buried_fault(rsf::ModelBuilder::refined(mesh, levels).unwrap())
 }
 
-/// The quasi-dynamic builder of the internal-fault tests (`normal_stress::quasi_dynamic`).
-pub type QuasiDynamic<const D: usize> = rsf::SimulationBuilder<
-    D,
-    rsf::friction::AsinhLaw,
-    rsf::state::Aging,
-    rsf::time::Quasistatic,
-    D,
->;
-
-/// The last step's slip length (m) of every frictional node: the hypotenuse of its slip
-/// components, taken one component at a time.
-#[derive(Default)]
-pub struct LastSlip(pub Vec<f64>);
-
-impl<const D: usize> Observer<D> for LastSlip {
-    fn observe(&mut self, s: &StepView<'_, D, D>) -> rsf::Result<rsf::Flow> {
-        self.0 = (0..s.model.frictional_boundary.len())
-            .map(|k| s.slip(k).iter().fold(0.0f64, |h, &c| h.hypot(c)))
-            .collect();
-        Ok(rsf::Flow::Continue(()))
-    }
-}
-
 /// The largest `|a_i − b_i|`.
 pub fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-}
-
-/// The last slip lengths ([`LastSlip`]) of `builder`'s implicit scheme (its integrator,
-/// the direct solver) run to `t_end` in `steps` fixed steps.
-pub fn implicit_last_slip<const D: usize>(
-    builder: QuasiDynamic<D>,
-    t_end: f64,
-    steps: usize,
-) -> Vec<f64> {
-    let mut sim = builder
-        .time_step(t_end / steps as f64)
-        .solver(SolverKind::Direct)
-        .build()
-        .unwrap();
-    let mut last = LastSlip::default();
-    sim.run(steps, &mut [&mut last]).unwrap();
-    last.0
-}
-
-/// [`implicit_last_slip`] of `builder()` for each number of steps of `steps`: its largest
-/// distance from `reference`, relative to `reference`'s largest slip, one per count.
-pub fn implicit_slip_errors<const D: usize>(
-    builder: impl Fn() -> QuasiDynamic<D>,
-    t_end: f64,
-    steps: &[usize],
-    reference: &[f64],
-) -> Vec<f64> {
-    let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
-    assert!(scale > 0.0);
-    steps
-        .iter()
-        .map(|&steps| {
-            let slip = implicit_last_slip(builder(), t_end, steps);
-            let e = largest_difference(&slip, reference) / scale;
-            eprintln!(
-                "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
-            );
-            e
-        })
-        .collect()
-}
-
-/// Asserts that `errors`, one per halving of τ, fall at an observed order above 0.8.
-pub fn assert_first_order(errors: &[f64]) {
-    for w in errors.windows(2) {
-        let rate = (w[0] / w[1]).log2();
-        eprintln!("rate {rate:.3}");
-        assert!(rate > 0.8, "{errors:?}");
-    }
 }
 
 /// The observers of a resumable run of the slider into `dir`: the series at x0
@@ -620,39 +569,6 @@ pub fn history_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
         .flatten()
         .zip(b.iter().flatten())
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-}
-
-/// The last slip lengths ([`LastSlip`]) of `builder`'s fault ODE (first step 1e-3 s,
-/// tolerance 1e-9) run until `until`, and its number of steps.
-pub fn fault_ode_last_slip<const D: usize>(
-    builder: QuasiDynamic<D>,
-    until: rsf::Until,
-) -> (Vec<f64>, usize) {
-    let mut ode = builder
-        .time_step(1e-3)
-        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-            tolerance: 1e-9,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut last = LastSlip::default();
-    let steps = rsf::run_until(&mut ode, until, &mut [&mut last])
-        .unwrap()
-        .steps;
-    (last.0, steps)
-}
-
-/// Asserts that `errors` (slip, normal stress), one pair per halving of τ, both fall at an
-/// observed order above 0.8.
-pub fn assert_first_order_with_normal_stress(errors: &[(f64, f64)]) {
-    for w in errors.windows(2) {
-        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
-        eprintln!(
-            "rates {:.3} (slip), {:.3} (normal stress)",
-            rates.0, rates.1
-        );
-        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
-    }
 }
 
 /// `f` run in a rayon pool of `threads` threads.

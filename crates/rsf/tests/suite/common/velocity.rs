@@ -19,6 +19,20 @@ pub fn newmark_velocity_matrix<const D: usize>(model: &rsf::Model<D>, tau: f64) 
     .expect("A = (2/τ)M + (τ/2)K")
 }
 
+/// The paper's slider at refinement level `level` with N = 10⁴ steps (τ = 1.5 ms), its
+/// model and the matrix A of its Newmark velocity problems
+/// ([`newmark_velocity_matrix`]).
+pub fn slider_velocity_problem(level: usize) -> (SliderScene, rsf::Model<2>, SparseMatrix) {
+    let scene = SliderScene {
+        level,
+        steps: 10_000,
+        ..SliderScene::default()
+    };
+    let model = scene.build_model().expect("slider model");
+    let a = newmark_velocity_matrix(&model, scene.tau());
+    (scene, model, a)
+}
+
 /// The Newmark right-hand side ℓ of `model` at step `tau` (s) from `(u, v, 0)`.
 pub fn newmark_rhs<const D: usize>(
     model: &rsf::Model<D>,
