@@ -51,35 +51,36 @@ fn sampled<const D: usize, const C: usize, O: Observer<D, C> + 'static>(
     Ok(Box::new(Every::new(Interval::Steps(target.every), fields)?))
 }
 
+/// [`sampled`] of the writer `$fields` ([`Hdf5Fields`] or [`Hdf5FaultFields`]) for
+/// `$target`: a new file with the run's fingerprint and interval, or the file continued.
+macro_rules! sampled_file {
+    ($fields:ident, $target:expr) => {{
+        let target = $target;
+        sampled(
+            target,
+            || {
+                Ok($fields::new(target.path, target.mode)?
+                    .fingerprint(target.fingerprint.clone())
+                    .every(target.every))
+            },
+            |c, allowed| $fields::continue_run(target.path, c, allowed),
+        )
+    }};
+}
+
 /// The body's fields for `target`.
 fn volume<const D: usize>(target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<D>>>
 where
     Hdf5Fields: Observer<D>,
 {
-    sampled(
-        target,
-        || {
-            Ok(Hdf5Fields::new(target.path, target.mode)?
-                .fingerprint(target.fingerprint.clone())
-                .every(target.every))
-        },
-        |c, allowed| Hdf5Fields::continue_run(target.path, c, allowed),
-    )
+    sampled_file!(Hdf5Fields, target)
 }
 
 /// The fault's fields for `target`.
 fn fault<const D: usize, const C: usize>(
     target: &FieldsTarget<'_>,
 ) -> rsf::Result<Box<dyn Observer<D, C>>> {
-    sampled(
-        target,
-        || {
-            Ok(Hdf5FaultFields::new(target.path, target.mode)?
-                .fingerprint(target.fingerprint.clone())
-                .every(target.every))
-        },
-        |c, allowed| Hdf5FaultFields::continue_run(target.path, c, allowed),
-    )
+    sampled_file!(Hdf5FaultFields, target)
 }
 
 impl FieldWriters for Hdf5Writers {

@@ -141,23 +141,9 @@ fn slider_3d_fields_equal_its_frames_and_a_resumed_run_continues_them() {
 fn pipping_slider_fields_equal_its_frames() {
     let bin = env!("CARGO_BIN_EXE_pipping_slider");
     let dir = temp_dir("pipping-slider-hdf5");
-    run_ok(
-        bin,
-        &[
-            "--level",
-            "1",
-            "--steps",
-            "60",
-            "--threads",
-            "1",
-            "--hdf5",
-            "20",
-            "--frame-every",
-            "20",
-            "--out",
-            arg(&dir),
-        ],
-    );
+    let flags = ["--level", "1", "--steps", "60", "--threads", "1"];
+    let fields = ["--hdf5", "20", "--frame-every", "20"];
+    run_ok(bin, &[&flags[..], &fields, &["--out", arg(&dir)]].concat());
     assert_eq!(assert_fields_equal_frames(&dir), [20, 40, 60]);
     std::fs::remove_dir_all(&dir).ok();
 }

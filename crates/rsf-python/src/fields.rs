@@ -10,35 +10,43 @@ use rsf::observe::FileMode;
 
 use crate::errors::invalid;
 
-/// The observers writing `path` every `every` steps (none without a path).
-#[cfg(feature = "hdf5")]
+/// The observers writing `path` every `every` steps (none without a path; without the
+/// feature `hdf5`, an error if a path is given).
 pub(crate) fn hdf5_observer<const D: usize>(
     path: Option<PathBuf>,
     every: usize,
     fingerprint: &Fingerprint,
     resumed: Option<(&rsf::Checkpoint, &[String])>,
 ) -> PyResult<Vec<Box<dyn rsf::Observer<D>>>> {
-    use crate::errors::OrPy;
-    use rsf::observe::{Every, Interval};
     let Some(path) = path else {
         return Ok(Vec::new());
     };
-    if every == 0 {
-        return Err(invalid("hdf5_every", "at least 1 (steps)"));
+    #[cfg(not(feature = "hdf5"))]
+    {
+        let _ = (path, every, fingerprint, resumed);
+        Err(no_hdf5("hdf5"))
     }
-    let fields = match resumed {
-        // The file proves it holds the checkpoint's run before it is cut (issue 87).
-        Some((c, allowed)) => {
-            let allowed: Vec<&str> = allowed.iter().map(String::as_str).collect();
-            rsf_hdf5::Hdf5Fields::continue_run(&path, c, &allowed).py()?
+    #[cfg(feature = "hdf5")]
+    {
+        use crate::errors::OrPy;
+        use rsf::observe::{Every, Interval};
+        if every == 0 {
+            return Err(invalid("hdf5_every", "at least 1 (steps)"));
         }
-        None => rsf_hdf5::Hdf5Fields::new(&path, FileMode::Create)
-            .py()?
-            .fingerprint(fingerprint.clone()),
-    };
-    Ok(vec![Box::new(
-        Every::new(Interval::Steps(every), fields).py()?,
-    )])
+        let fields = match resumed {
+            // The file proves it holds the checkpoint's run before it is cut (issue 87).
+            Some((c, allowed)) => {
+                let allowed: Vec<&str> = allowed.iter().map(String::as_str).collect();
+                rsf_hdf5::Hdf5Fields::continue_run(&path, c, &allowed).py()?
+            }
+            None => rsf_hdf5::Hdf5Fields::new(&path, FileMode::Create)
+                .py()?
+                .fingerprint(fingerprint.clone()),
+        };
+        Ok(vec![Box::new(
+            Every::new(Interval::Steps(every), fields).py()?,
+        )])
+    }
 }
 
 /// The observer writing the series of the SEAS run in `dir` into `dir/seas.h5` at the end
@@ -60,21 +68,6 @@ fn no_hdf5(argument: &str) -> PyErr {
         "this build of the package has no HDF5 output: install it with \
          MATURIN_PEP517_ARGS=\"--features hdf5\" (docs/python.md)",
     )
-}
-
-/// Without the feature `hdf5`: an error if a file is asked for.
-#[cfg(not(feature = "hdf5"))]
-pub(crate) fn hdf5_observer<const D: usize>(
-    path: Option<PathBuf>,
-    every: usize,
-    fingerprint: &Fingerprint,
-    resumed: Option<(&rsf::Checkpoint, &[String])>,
-) -> PyResult<Vec<Box<dyn rsf::Observer<D>>>> {
-    let _ = (every, fingerprint, resumed);
-    match path {
-        None => Ok(Vec::new()),
-        Some(_) => Err(no_hdf5("hdf5")),
-    }
 }
 
 /// Without the feature `hdf5`: an error.

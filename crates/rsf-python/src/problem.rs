@@ -205,27 +205,24 @@ impl Model {
             frictional_boundary.as_ref().map(part_label),
         );
         let fb = (frictional_boundary.as_ref(), &faults[..]);
+        // The model of the mesh's dimension `$D`.
+        macro_rules! build {
+            ($m:expr, $D:literal) => {
+                build_model::<$D>(
+                    py,
+                    $m.clone(),
+                    refine,
+                    material,
+                    gravity,
+                    &dirichlet,
+                    fb,
+                    ramp,
+                )?
+            };
+        }
         let model = match &mesh.mesh {
-            AnyMesh::Two(m) => AnyModel::Two(build_model::<2>(
-                py,
-                m.clone(),
-                refine,
-                material,
-                gravity,
-                &dirichlet,
-                fb,
-                ramp,
-            )?),
-            AnyMesh::Three(m) => AnyModel::Three(build_model::<3>(
-                py,
-                m.clone(),
-                refine,
-                material,
-                gravity,
-                &dirichlet,
-                fb,
-                ramp,
-            )?),
+            AnyMesh::Two(m) => AnyModel::Two(build!(m, 2)),
+            AnyMesh::Three(m) => AnyModel::Three(build!(m, 3)),
         };
         let mut description = describe(&head, parts, &model);
         if !faults.is_empty() {
@@ -315,7 +312,7 @@ fn coords<const D: usize>(m: &rsf::Model<D>) -> Vec<f64> {
 #[pyclass(module = "rsf._rsf", name = "Friction")]
 pub struct Friction {
     kind: FrictionKind,
-    params: Vec<(&'static str, Py<PyAny>)>,
+    params: Vec<(&'static str, Param)>,
 }
 
 #[derive(Clone, Copy, PartialEq)]
@@ -325,60 +322,49 @@ enum FrictionKind {
     Tresca,
 }
 
+/// A friction parameter from Python: a number, an array (one per fault node) or a
+/// function of the fault nodes' coordinates.
+type Param = Py<PyAny>;
+
+impl Friction {
+    /// A rate-and-state law `kind` with its parameters `mu0`, `a`, `b`, `v0`, `l`,
+    /// `sigma_n` in this order.
+    fn rate_state(kind: FrictionKind, values: [Param; 6]) -> Self {
+        let names = ["mu0", "a", "b", "v0", "l", "sigma_n"];
+        Self {
+            kind,
+            params: names.into_iter().zip(values).collect(),
+        }
+    }
+}
+
 #[pymethods]
 impl Friction {
     /// Dieterich–Ruina friction with the V_m cutoff (the paper's (2.9), (2.12)–(2.13)):
     /// `mu0`, `a`, `b` (dimensionless), `v0` (m/s), `l` (m), `sigma_n` (Pa).
     #[staticmethod]
     fn dieterich_ruina(
-        mu0: Py<PyAny>,
-        a: Py<PyAny>,
-        b: Py<PyAny>,
-        v0: Py<PyAny>,
-        l: Py<PyAny>,
-        sigma_n: Py<PyAny>,
+        mu0: Param,
+        a: Param,
+        b: Param,
+        v0: Param,
+        l: Param,
+        sigma_n: Param,
     ) -> Self {
-        Self {
-            kind: FrictionKind::DieterichRuina,
-            params: vec![
-                ("mu0", mu0),
-                ("a", a),
-                ("b", b),
-                ("v0", v0),
-                ("l", l),
-                ("sigma_n", sigma_n),
-            ],
-        }
+        Self::rate_state(FrictionKind::DieterichRuina, [mu0, a, b, v0, l, sigma_n])
     }
 
     /// The regularised law `μ = a asinh(V/(2V0) exp((μ0 + b ln(V0 θ/L))/a))` (the SEAS
     /// benchmarks'): the parameters of `dieterich_ruina`.
     #[staticmethod]
-    fn regularised(
-        mu0: Py<PyAny>,
-        a: Py<PyAny>,
-        b: Py<PyAny>,
-        v0: Py<PyAny>,
-        l: Py<PyAny>,
-        sigma_n: Py<PyAny>,
-    ) -> Self {
-        Self {
-            kind: FrictionKind::Regularised,
-            params: vec![
-                ("mu0", mu0),
-                ("a", a),
-                ("b", b),
-                ("v0", v0),
-                ("l", l),
-                ("sigma_n", sigma_n),
-            ],
-        }
+    fn regularised(mu0: Param, a: Param, b: Param, v0: Param, l: Param, sigma_n: Param) -> Self {
+        Self::rate_state(FrictionKind::Regularised, [mu0, a, b, v0, l, sigma_n])
     }
 
     /// Tresca friction: a constant friction coefficient `mu` and normal stress `sigma_n`
     /// (Pa); no state.
     #[staticmethod]
-    fn tresca(mu: Py<PyAny>, sigma_n: Py<PyAny>) -> Self {
+    fn tresca(mu: Param, sigma_n: Param) -> Self {
         Self {
             kind: FrictionKind::Tresca,
             params: vec![("mu", mu), ("sigma_n", sigma_n)],
@@ -657,33 +643,25 @@ pub(crate) fn simulate(
     macro_rules! run {
         ($m:expr, $D:literal) => {
             match friction.kind {
-                FrictionKind::DieterichRuina => simulate_with::<$D, DieterichRuina>(
-                    $m,
-                    |k| DieterichRuina::new(params(&r, k)).map_err(Into::into),
-                    &r,
-                    &alpha0,
-                    &c,
-                    fingerprint,
-                ),
-                FrictionKind::Regularised => simulate_with::<$D, AsinhLaw>(
-                    $m,
-                    |k| AsinhLaw::new(params(&r, k)).map_err(Into::into),
-                    &r,
-                    &alpha0,
-                    &c,
-                    fingerprint,
-                ),
-                FrictionKind::Tresca => simulate_with::<$D, Tresca>(
-                    $m,
-                    |k| {
-                        Tresca::new(value(&r, "mu", k), value(&r, "sigma_n", k)).map_err(Into::into)
-                    },
-                    &r,
-                    &alpha0,
-                    &c,
-                    fingerprint,
-                ),
+                FrictionKind::DieterichRuina => {
+                    run!($m, $D, |k| DieterichRuina::new(params(&r, k)))
+                }
+                FrictionKind::Regularised => run!($m, $D, |k| AsinhLaw::new(params(&r, k))),
+                FrictionKind::Tresca => run!($m, $D, |k| {
+                    Tresca::new(value(&r, "mu", k), value(&r, "sigma_n", k))
+                }),
             }
+        };
+        // The simulation of the law `$law` makes at node `k`.
+        ($m:expr, $D:literal, |$k:ident| $law:expr) => {
+            simulate_with::<$D, _>(
+                $m,
+                |$k| $law.map_err(Into::into),
+                &r,
+                &alpha0,
+                &c,
+                fingerprint,
+            )
         };
     }
     match model.model.clone() {

@@ -30,6 +30,21 @@ pub(crate) struct FolderKeywords {
 }
 
 impl FolderKeywords {
+    /// The keywords `out`, `overwrite`, `resume` and `allow_change` of a run.
+    pub fn new(
+        out: Option<PathBuf>,
+        overwrite: bool,
+        resume: Option<PathBuf>,
+        allow_change: Vec<String>,
+    ) -> Self {
+        Self {
+            out,
+            overwrite,
+            resume,
+            allow_change,
+        }
+    }
+
     /// Checks the keywords together: `allow_change` needs `resume`, `overwrite` needs
     /// `out`.
     ///

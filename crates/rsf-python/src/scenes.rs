@@ -308,12 +308,7 @@ pub(crate) fn seas_bp1(
              the implicit scheme and BP1-FD)",
         ));
     }
-    let folder = FolderKeywords {
-        out: out.clone(),
-        overwrite,
-        resume,
-        allow_change,
-    };
+    let folder = FolderKeywords::new(out.clone(), overwrite, resume, allow_change);
     folder.check()?;
     if hdf5 && out.is_none() {
         return Err(invalid(

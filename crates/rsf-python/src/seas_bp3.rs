@@ -74,12 +74,7 @@ pub(crate) fn seas_bp3(
     };
     run.validate_with(&params).py()?;
     let bp3 = run.scene(params);
-    let folder = FolderKeywords {
-        out,
-        overwrite,
-        resume,
-        allow_change,
-    };
+    let folder = FolderKeywords::new(out, overwrite, resume, allow_change);
     let fingerprint = run.fingerprint_with(&bp3.params);
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.

@@ -101,12 +101,7 @@ pub(crate) fn seas_bp5(
     // is built (this package's default feature `metis`), else AMD.
     let run = run.resolved(InteriorOrdering::fastest_built());
     let kernel = run.kernel;
-    let folder = FolderKeywords {
-        out,
-        overwrite,
-        resume,
-        allow_change,
-    };
+    let folder = FolderKeywords::new(out, overwrite, resume, allow_change);
     let fingerprint = run.fingerprint_with(&bp5, InteriorOrdering::fastest_built());
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.

@@ -99,12 +99,7 @@ pub(crate) fn seas_bp6(
     if threads == 0 {
         return Err(invalid("threads", "at least 1"));
     }
-    let folder = FolderKeywords {
-        out,
-        overwrite,
-        resume,
-        allow_change,
-    };
+    let folder = FolderKeywords::new(out, overwrite, resume, allow_change);
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does. (The BP6 files are written whole, atomically, where a run
     // stops: they take no mode.)

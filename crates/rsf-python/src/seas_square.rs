@@ -37,49 +37,59 @@ fn settings_of<C: RunConfig>(settings: Option<&Bound<'_, PyDict>>, what: &str) -
     Ok(run)
 }
 
-/// SEAS BP7-QD-A/S (docs/seas-bp7.md, docs/python.md): the run of the Rust program
-/// `seas_bp7`. The settings are keyword arguments with the program's names, defaults and
-/// ranges (`rsf_scenes::SeasBp7Run`): `kernel` "bem" (the whole space's boundary
-/// elements, the default) or "fe" (a finite-element box: `domain_km`, its half-width, km,
-/// default 6.4; `ratio`, its grading, default 1.2), `law` "aging" or "slip", `end_years` (years of
-/// 365.25 days, default 10), `dx` (m, dividing 800 m; default 10), `d_rs` (mm, default
-/// 0.5), `tolerance` (default 1e-7), `station_interval` (s; 0, the default: a row every
-/// accepted step), `integrator` ("auto", "rkc", "rosenbrock", "dormand-prince",
-/// "bogacki-shampine"). `threads`, `modeler`, `date` (`YYYY-MM-DD`, default today);
-/// `fault_every` records the fault's fields every N steps. With `out`, the benchmark's
-/// files are written there as the program writes them, at the end of every
-/// `run`/`advance` call; `overwrite`, `resume`, `allow_change` as for `seas_bp1` (a
-/// checkpoint of the program resumes here and the other way round, where its files were
-/// written at the checkpoint's step).
-#[pyfunction]
-#[pyo3(signature = (*, out=None, overwrite=false, resume=None, allow_change=Vec::new(), threads=1, modeler="rsf", date=None, fault_every=0, **settings))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub(crate) fn seas_bp7(
-    out: Option<PathBuf>,
-    overwrite: bool,
-    resume: Option<PathBuf>,
-    allow_change: Vec<String>,
-    threads: i128,
-    modeler: &str,
-    date: Option<String>,
-    fault_every: i128,
-    settings: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Simulation> {
-    let common = Common::new(
-        FolderKeywords {
-            out,
-            overwrite,
-            resume,
-            allow_change,
-        },
-        (threads, fault_every),
-        (modeler, date),
-    )?;
-    let (run, fingerprint): (SeasBp7Run, _) = common.prepare(
-        (settings, "the BP7 settings"),
-        "seas_bp7",
-        (SeasBp5Output::bp7_file_names(), SEAS_BP7_RESUME_LOG),
-    )?;
+/// A `#[pyfunction]` `$name` (its docs the doc comments given) taking the keywords every
+/// square run takes — `out`, `overwrite`, `resume`, `allow_change`, `threads`, `modeler`,
+/// `date`, `fault_every` — and the settings as `**settings`: the keywords checked
+/// ([`Common::new`]), the settings read (`$what` in messages) and the folder prepared for
+/// the program `$name`'s `$files` and resume log `$log` ([`Common::prepare`]), then
+/// `$run(common, run, fingerprint)`.
+macro_rules! square_run {
+    ($(#[$doc:meta])* $name:ident => $run:ident, ($what:expr, $files:expr, $log:expr)) => {
+        $(#[$doc])*
+        #[pyfunction]
+        #[pyo3(signature = (*, out=None, overwrite=false, resume=None, allow_change=Vec::new(), threads=1, modeler="rsf", date=None, fault_every=0, **settings))]
+        #[allow(clippy::too_many_arguments)] // Python's keyword arguments
+        pub(crate) fn $name(
+            out: Option<PathBuf>,
+            overwrite: bool,
+            resume: Option<PathBuf>,
+            allow_change: Vec<String>,
+            threads: i128,
+            modeler: &str,
+            date: Option<String>,
+            fault_every: i128,
+            settings: Option<&Bound<'_, PyDict>>,
+        ) -> PyResult<Simulation> {
+            let folder = FolderKeywords::new(out, overwrite, resume, allow_change);
+            let common = Common::new(folder, (threads, fault_every), (modeler, date))?;
+            let (run, fingerprint) =
+                common.prepare((settings, $what), stringify!($name), ($files, $log))?;
+            $run(common, run, fingerprint)
+        }
+    };
+}
+
+square_run!(
+    /// SEAS BP7-QD-A/S (docs/seas-bp7.md, docs/python.md): the run of the Rust program
+    /// `seas_bp7`. The settings are keyword arguments with the program's names, defaults and
+    /// ranges (`rsf_scenes::SeasBp7Run`): `kernel` "bem" (the whole space's boundary
+    /// elements, the default) or "fe" (a finite-element box: `domain_km`, its half-width, km,
+    /// default 6.4; `ratio`, its grading, default 1.2), `law` "aging" or "slip", `end_years` (years of
+    /// 365.25 days, default 10), `dx` (m, dividing 800 m; default 10), `d_rs` (mm, default
+    /// 0.5), `tolerance` (default 1e-7), `station_interval` (s; 0, the default: a row every
+    /// accepted step), `integrator` ("auto", "rkc", "rosenbrock", "dormand-prince",
+    /// "bogacki-shampine"). `threads`, `modeler`, `date` (`YYYY-MM-DD`, default today);
+    /// `fault_every` records the fault's fields every N steps. With `out`, the benchmark's
+    /// files are written there as the program writes them, at the end of every
+    /// `run`/`advance` call; `overwrite`, `resume`, `allow_change` as for `seas_bp1` (a
+    /// checkpoint of the program resumes here and the other way round, where its files were
+    /// written at the checkpoint's step).
+    seas_bp7 => run_bp7,
+    ("the BP7 settings", SeasBp5Output::bp7_file_names(), SEAS_BP7_RESUME_LOG)
+);
+
+/// [`seas_bp7`]'s run of the settings `run` (their `fingerprint`): its fault ODE and files.
+fn run_bp7(common: Common, run: SeasBp7Run, fingerprint: Fingerprint) -> PyResult<Simulation> {
     let bp7 = run.scene();
     let options = common.options(bp7.fault_ode_options(run.tolerance), run.integrator)?;
     let (ode, body) = run.fault_ode(options, elimination()).py()?;
@@ -89,44 +99,22 @@ pub(crate) fn seas_bp7(
     common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp7")
 }
 
-/// SEAS BP8-QD-GS/PW (docs/seas-bp8.md, docs/python.md): the run of the Rust program
-/// `seas_bp8`. The settings are keyword arguments with the program's names, defaults and
-/// ranges (`rsf_scenes::SeasBp8Run`): `kernel`, `domain_km`, `ratio` as for
-/// [`seas_bp7`], `source` "gs" (a Gaussian) or "pw" (a Peaceman
-/// well), `end_days` (default 30), `dx` (m, dividing 800 m; default 10), `tolerance`
-/// (default 1e-7), `overpressure` "floor" or "refuse", `sigma_min` (MPa, the floor's; 1
-/// if unset), `station_interval` (s; 0, the default: a row every accepted step),
-/// `profile_interval` (s, default 3600), `integrator`. The other keywords as for
-/// [`seas_bp7`].
-#[pyfunction]
-#[pyo3(signature = (*, out=None, overwrite=false, resume=None, allow_change=Vec::new(), threads=1, modeler="rsf", date=None, fault_every=0, **settings))]
-#[allow(clippy::too_many_arguments)] // Python's keyword arguments
-pub(crate) fn seas_bp8(
-    out: Option<PathBuf>,
-    overwrite: bool,
-    resume: Option<PathBuf>,
-    allow_change: Vec<String>,
-    threads: i128,
-    modeler: &str,
-    date: Option<String>,
-    fault_every: i128,
-    settings: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Simulation> {
-    let common = Common::new(
-        FolderKeywords {
-            out,
-            overwrite,
-            resume,
-            allow_change,
-        },
-        (threads, fault_every),
-        (modeler, date),
-    )?;
-    let (run, fingerprint): (SeasBp8Run, _) = common.prepare(
-        (settings, "the BP8 settings"),
-        "seas_bp8",
-        (SeasBp5Output::bp8_file_names(), SEAS_BP8_RESUME_LOG),
-    )?;
+square_run!(
+    /// SEAS BP8-QD-GS/PW (docs/seas-bp8.md, docs/python.md): the run of the Rust program
+    /// `seas_bp8`. The settings are keyword arguments with the program's names, defaults and
+    /// ranges (`rsf_scenes::SeasBp8Run`): `kernel`, `domain_km`, `ratio` as for
+    /// [`seas_bp7`], `source` "gs" (a Gaussian) or "pw" (a Peaceman
+    /// well), `end_days` (default 30), `dx` (m, dividing 800 m; default 10), `tolerance`
+    /// (default 1e-7), `overpressure` "floor" or "refuse", `sigma_min` (MPa, the floor's; 1
+    /// if unset), `station_interval` (s; 0, the default: a row every accepted step),
+    /// `profile_interval` (s, default 3600), `integrator`. The other keywords as for
+    /// [`seas_bp7`].
+    seas_bp8 => run_bp8,
+    ("the BP8 settings", SeasBp5Output::bp8_file_names(), SEAS_BP8_RESUME_LOG)
+);
+
+/// [`seas_bp8`]'s run of the settings `run` (their `fingerprint`): its fault ODE and files.
+fn run_bp8(common: Common, run: SeasBp8Run, fingerprint: Fingerprint) -> PyResult<Simulation> {
     let bp8 = SeasBp8::default();
     let field = bp8.pressure(run.source, run.dx).py()?;
     let friction_pressure = bp8

@@ -195,3 +195,36 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> rsf::Error {
         reason: reason.into(),
     }
 }
+
+/// The name of the parameter `result` refuses (tests of the settings' refusals).
+///
+/// # Panics
+/// If `result` is not an [`rsf::Error::InvalidParameter`].
+#[cfg(test)]
+pub(crate) fn refused_name(result: rsf::Result<()>) -> String {
+    match result {
+        Err(rsf::Error::InvalidParameter { name, .. }) => name,
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Checks a mesh's grading `ratio` (the growth of its cells) in [1, 2].
+///
+/// # Errors
+/// [`rsf::Error::InvalidParameter`] named `ratio`, with its value.
+pub(crate) fn check_ratio(ratio: f64) -> rsf::Result<()> {
+    if (1.0..=2.0).contains(&ratio) {
+        Ok(())
+    } else {
+        Err(invalid(
+            "ratio",
+            format!("{} must be in [1, 2]", rsf_numeric::written(ratio)),
+        ))
+    }
+}
+
+/// [`invalid`] named `name` for the length `value` (m) that breaks `rule`: "`value` m
+/// `rule`", the value as [`rsf_numeric::written`] writes it.
+pub(crate) fn invalid_length(name: &str, value: f64, rule: impl std::fmt::Display) -> rsf::Error {
+    invalid(name, format!("{} m {rule}", rsf_numeric::written(value)))
+}

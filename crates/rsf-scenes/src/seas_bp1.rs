@@ -10,8 +10,8 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
 
-use crate::invalid;
 use crate::scene_file::{finite, positive_fields};
+use crate::{check_ratio, invalid, invalid_length};
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::model::AntiplaneMaterial;
@@ -31,6 +31,10 @@ pub type SeasBp1Simulation = Simulation<2, AsinhLaw, Aging, Integrator, 1>;
 /// A quasi-dynamic run of BP1 condensed onto the fault and integrated by an explicit
 /// Runge–Kutta pair ([`FaultOde`], docs/math.md §12).
 pub type SeasBp1FaultOde = FaultOde<2, AsinhLaw, Aging, 1>;
+
+/// The quasi-dynamic problem builder of BP1's friction (the regularised law, the aging law)
+/// on a 2-D fault in plane strain, two slip components: BP3's and the stepover's.
+pub(crate) type Bp1PlaneStrainBuilder = SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2>;
 
 /// The BP1 discretisation: a tensor-product mesh of `x ∈ [0, domain]` (distance from the
 /// fault) × `z ∈ [0, domain]` (depth), spacing `dz` on `0 ≤ z ≤ W_f` along the fault and
@@ -265,31 +269,14 @@ impl SeasBp1 {
         self.validate()?;
         let cells = self.w_f / grid.dz;
         if !(grid.dz > 0.0 && grid.dz.is_finite()) || (cells - cells.round()).abs() > 1e-9 {
-            return Err(invalid(
-                "dz",
-                format!(
-                    "{} m must divide W_f = {} m into whole cells",
-                    rsf_numeric::written(grid.dz),
-                    self.w_f
-                ),
-            ));
+            let rule = format!("must divide W_f = {} m into whole cells", self.w_f);
+            return Err(invalid_length("dz", grid.dz, rule));
         }
         if !(grid.domain > self.w_f && grid.domain.is_finite()) {
-            return Err(invalid(
-                "domain",
-                format!(
-                    "{} m must exceed W_f = {} m",
-                    rsf_numeric::written(grid.domain),
-                    self.w_f
-                ),
-            ));
+            let rule = format!("must exceed W_f = {} m", self.w_f);
+            return Err(invalid_length("domain", grid.domain, rule));
         }
-        if !(1.0..=2.0).contains(&grid.ratio) {
-            return Err(invalid(
-                "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
-            ));
-        }
+        check_ratio(grid.ratio)?;
         Ok(())
     }
 
@@ -478,36 +465,23 @@ impl SeasBp1 {
         inertia: bool,
         sampling: &SeasSampling,
     ) -> Fingerprint {
-        Fingerprint::of_serialized(self)
+        let sampled = [
+            ("sampling.station_quiet", sampling.station_quiet),
+            ("sampling.station_event", sampling.station_event),
+            ("sampling.profile_quiet", sampling.profile_quiet),
+            ("sampling.profile_event", sampling.profile_event),
+            ("sampling.event_threshold", sampling.event_threshold),
+            ("sampling.event_quiet_time", sampling.event_quiet_time),
+        ];
+        let fingerprint = Fingerprint::of_serialized(self)
             .with("grid.dz", json_number(grid.dz))
             .with("grid.domain", json_number(grid.domain))
             .with("grid.ratio", json_number(grid.ratio))
             .with("inertia", inertia)
-            .with("sampling.every_step", sampling.every_step)
-            .with(
-                "sampling.station_quiet",
-                json_number(sampling.station_quiet),
-            )
-            .with(
-                "sampling.station_event",
-                json_number(sampling.station_event),
-            )
-            .with(
-                "sampling.profile_quiet",
-                json_number(sampling.profile_quiet),
-            )
-            .with(
-                "sampling.profile_event",
-                json_number(sampling.profile_event),
-            )
-            .with(
-                "sampling.event_threshold",
-                json_number(sampling.event_threshold),
-            )
-            .with(
-                "sampling.event_quiet_time",
-                json_number(sampling.event_quiet_time),
-            )
+            .with("sampling.every_step", sampling.every_step);
+        sampled
+            .into_iter()
+            .fold(fingerprint, |f, (name, x)| f.with(name, json_number(x)))
             .with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
     }
 

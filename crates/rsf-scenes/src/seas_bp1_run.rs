@@ -728,10 +728,7 @@ mod tests {
     #[test]
     fn ignored_settings_are_refused_by_name() {
         let run = SeasBp1Run::default();
-        let name = |r: SeasBp1Run| match r.validate() {
-            Err(rsf::Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let name = |r: SeasBp1Run| crate::refused_name(r.validate());
         assert_eq!(
             name(SeasBp1Run {
                 tolerance: 1e-8,

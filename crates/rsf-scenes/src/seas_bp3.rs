@@ -11,7 +11,8 @@ use rsf::time::Quasistatic;
 use rsf::{Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
 use rsf_seas::{SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation};
 
-use crate::{invalid, SeasBp1};
+use crate::seas_bp1::Bp1PlaneStrainBuilder;
+use crate::{check_ratio, invalid, SeasBp1};
 
 /// The down-dip distances (m) of the benchmark's on-fault stations.
 pub const SEAS_BP3_STATION_DISTANCES: [f64; 12] = [
@@ -169,12 +170,7 @@ impl SeasBp3 {
                 ),
             ));
         }
-        if !(1.0..=2.0).contains(&grid.ratio) {
-            return Err(invalid(
-                "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
-            ));
-        }
+        check_ratio(grid.ratio)?;
         let side = geometric_grading(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain)?;
         let mut xi: Vec<f64> = side.iter().rev().map(|x| -x).collect();
         xi.extend(side.iter().skip(1));
@@ -258,10 +254,7 @@ impl SeasBp3 {
     ///
     /// # Errors
     /// Invalid parameters.
-    pub fn problem_builder(
-        &self,
-        model: Model<2>,
-    ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2>> {
+    pub fn problem_builder(&self, model: Model<2>) -> Result<Bp1PlaneStrainBuilder> {
         self.validate()?;
         let p = &self.params;
         let (s, c) = self.dip();

@@ -223,10 +223,7 @@ mod tests {
     #[test]
     fn refusals_name_the_setting_and_the_fingerprint_holds_the_settings() {
         let run = SeasBp3Run::default();
-        let name = |r: SeasBp3Run| match r.validate() {
-            Err(rsf::Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let name = |r: SeasBp3Run| crate::refused_name(r.validate());
         assert_eq!(name(SeasBp3Run { dip: 90.0, ..run }), "dip");
         assert_eq!(name(SeasBp3Run { dip: 0.5, ..run }), "dip");
         assert_eq!(name(SeasBp3Run { dx: 2e4, ..run }), "dx");

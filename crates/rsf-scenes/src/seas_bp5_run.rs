@@ -576,10 +576,7 @@ mod tests {
         let run = SeasBp5Run::default();
         assert!(run.validate().is_ok());
         assert_eq!(run.scene(), SeasBp5::default());
-        let name = |r: SeasBp5Run| match r.validate() {
-            Err(rsf::Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let name = |r: SeasBp5Run| crate::refused_name(r.validate());
         assert_eq!(name(SeasBp5Run { dx: 3000.0, ..run }), "dx");
         assert_eq!(
             name(SeasBp5Run {

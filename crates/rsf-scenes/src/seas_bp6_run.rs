@@ -457,10 +457,7 @@ mod tests {
     #[test]
     fn refusals_name_the_setting_and_c_has_no_integrator() {
         let run = SeasBp6Run::default();
-        let name = |r: SeasBp6Run| match r.validate() {
-            Err(rsf::Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let name = |r: SeasBp6Run| crate::refused_name(r.validate());
         assert_eq!(name(SeasBp6Run { dz: 3.0, ..run }), "dz");
         assert_eq!(name(SeasBp6Run { dz: 0.3, ..run }), "dz");
         assert_eq!(

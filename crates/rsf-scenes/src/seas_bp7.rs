@@ -24,7 +24,7 @@ use rsf_state::{BuiltinStateLaw, StateLawKind};
 
 use crate::invalid;
 use crate::scene_file::{finite, poisson_ratio, positive_fields};
-use crate::square_fault::{square_cells, square_model, square_operator};
+use crate::square_fault::{square_cells, square_model, square_operator, SquareProblemBuilder};
 
 /// The fault ODE of BP7 (the regularised law, the aging or the slip law, a 3-D fault
 /// alone).
@@ -280,22 +280,33 @@ impl SeasBp7 {
     /// # Errors
     /// As [`cells`](Self::cells).
     pub fn perturbation(&self, dx: f64) -> Result<LoadChange> {
-        let [y2, y3] = self.hypocentre;
         let area = dx * dx;
         let forces = self
             .cells(dx)?
             .iter()
-            .flat_map(|c| {
-                let r = (c[0] - y2).hypot(c[1] - y3);
-                [area * self.dtau0 * bp7_g1(r, self.r_nuc), 0.0]
-            })
+            .flat_map(|c| self.bump_force(area, c[0], c[1]))
             .collect();
+        Ok(self.bump(forces))
+    }
+
+    /// The bump's force `w Δτ₀ G₁(r)` along `x₂` and 0 along `x₃` (N) at `(x₂, x₃)` (m)
+    /// of the weight `w` (m², a cell's area or a node's), `r` the distance from the
+    /// hypocentre.
+    pub(crate) fn bump_force(&self, w: f64, x2: f64, x3: f64) -> [f64; 2] {
+        let [y2, y3] = self.hypocentre;
+        let r = (x2 - y2).hypot(x3 - y3);
+        [w * self.dtau0 * bp7_g1(r, self.r_nuc), 0.0]
+    }
+
+    /// The bump as a change of the load: `forces` (N, per slip unknown,
+    /// [`bump_force`](Self::bump_force)), history [`bp7_g2`], a breakpoint at `T`.
+    pub(crate) fn bump(&self, forces: Vec<f64>) -> LoadChange {
         let t_rise = self.t_rise;
-        Ok(LoadChange {
+        LoadChange {
             forces,
             history: Arc::new(move |t| bp7_g2(t, t_rise)),
             breakpoints: vec![t_rise],
-        })
+        }
     }
 
     /// The problem of BP7 on `model` with the state law `law`: the regularised law with
@@ -304,11 +315,7 @@ impl SeasBp7 {
     ///
     /// # Errors
     /// Invalid parameters.
-    pub fn problem_builder(
-        &self,
-        model: Model<3, 3>,
-        law: Bp7Law,
-    ) -> Result<SimulationBuilder<3, AsinhLaw, BuiltinStateLaw, Integrator, 3>> {
+    pub fn problem_builder(&self, model: Model<3, 3>, law: Bp7Law) -> Result<SquareProblemBuilder> {
         self.validate()?;
         let this = *self;
         Ok(SimulationBuilder::new(model)

@@ -7,13 +7,11 @@
 //! frictional nodes; and a run's fault ODE and
 //! files with either kernel ([`SeasBp7Run`]: the programs' and Python's one path).
 
-use std::sync::Arc;
-
 use rsf::fault_ode::{FaultOdeOptions, LoadChange, SchurOnlySetup};
 use rsf::{Material, Model, ModelBuilder, Result};
 use rsf_seas::{bp7_body_station_points, SeasBp5Output, SeasSetup};
 
-use crate::seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};
+use crate::seas_bp7::{Bp7Law, SeasBp7, SeasBp7FaultOde};
 use crate::seas_square_run::SeasBp7Run;
 use crate::square_volume::{SquareVolumeGrid, VolumeElimination};
 
@@ -88,7 +86,6 @@ impl SeasBp7 {
     /// model `model` (each node its own `G₁` times its weight, in its frame's `t₁ = x₂`),
     /// as [`perturbation`](Self::perturbation) on the cells.
     pub fn fe_perturbation(&self, model: &Model<3, 3>) -> LoadChange {
-        let [y2, y3] = self.hypocentre;
         let fb = &model.frictional_boundary;
         let forces = fb
             .nodes
@@ -96,16 +93,10 @@ impl SeasBp7 {
             .zip(&fb.weights)
             .flat_map(|(&p, &w)| {
                 let x = model.vertices[p];
-                let r = (x[1] - y2).hypot(x[2] - y3);
-                [w * self.dtau0 * bp7_g1(r, self.r_nuc), 0.0]
+                self.bump_force(w, x[1], x[2])
             })
             .collect();
-        let t_rise = self.t_rise;
-        LoadChange {
-            forces,
-            history: Arc::new(move |t| bp7_g2(t, t_rise)),
-            breakpoints: vec![t_rise],
-        }
+        self.bump(forces)
     }
 
     /// The fault ODE of BP7 with the state law `law` on the volume model `model`

@@ -28,7 +28,9 @@ use rsf_state::{BuiltinStateLaw, StateLawKind};
 
 use crate::invalid;
 use crate::scene_file::{finite, poisson_ratio, positive_fields};
-use crate::square_fault::{ln_theta_at, square_cells, square_model, square_operator};
+use crate::square_fault::{
+    ln_theta_at, square_cells, square_model, square_operator, SquareProblemBuilder,
+};
 
 /// The fault ODE of BP8 (the regularised law, the aging law, a 3-D fault alone).
 pub type SeasBp8FaultOde = FaultOde<3, AsinhLaw, BuiltinStateLaw, 3>;
@@ -365,7 +367,7 @@ impl SeasBp8 {
         &self,
         model: Model<3, 3>,
         pressure: Arc<dyn PorePressure<3>>,
-    ) -> Result<SimulationBuilder<3, AsinhLaw, BuiltinStateLaw, Integrator, 3>> {
+    ) -> Result<SquareProblemBuilder> {
         self.validate()?;
         let law = AsinhLaw::new(self.params())?;
         Ok(SimulationBuilder::new(model)

@@ -13,6 +13,16 @@ use rsf::{Model, Result};
 
 use crate::invalid;
 
+/// The problem builder of BP7's and BP8's square (3-D, three components): the regularised
+/// law, a built-in state law (aging or slip), quasi-dynamic.
+pub(crate) type SquareProblemBuilder = rsf::SimulationBuilder<
+    3,
+    rsf_friction::AsinhLaw,
+    rsf_state::BuiltinStateLaw,
+    rsf::Integrator,
+    3,
+>;
+
 /// Most cells along each side of a square fault (a 5 m grid of BP8's 800 m square).
 pub const MAX_SQUARE_CELLS: usize = 160;
 

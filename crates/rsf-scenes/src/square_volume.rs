@@ -291,10 +291,7 @@ mod tests {
             ratio: 1.2,
         };
         ok.check(400.0).unwrap();
-        let name = |g: SquareVolumeGrid| match g.check(400.0) {
-            Err(rsf::Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let name = |g: SquareVolumeGrid| crate::refused_name(g.check(400.0));
         assert_eq!(name(SquareVolumeGrid { dx: 30.0, ..ok }), "dx");
         assert_eq!(
             name(SquareVolumeGrid {

@@ -22,7 +22,8 @@ use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
 
-use crate::{invalid, SeasBp1};
+use crate::seas_bp1::Bp1PlaneStrainBuilder;
+use crate::{check_ratio, invalid, invalid_length, SeasBp1};
 
 /// The names of the two strands: the south one (ending at `x = overlap/2`) and the north
 /// one (ending at `x = −overlap/2`).
@@ -97,20 +98,12 @@ impl Stepover {
     pub fn validate(&self) -> Result<()> {
         self.params.validate()?;
         if !(self.gap > 0.0 && self.gap.is_finite()) {
-            return Err(invalid(
-                "gap",
-                format!("{} m must be positive", rsf_numeric::written(self.gap)),
-            ));
+            return Err(invalid_length("gap", self.gap, "must be positive"));
         }
         if !(self.overlap.is_finite() && self.overlap.abs() < self.params.w_f) {
-            return Err(invalid(
-                "overlap",
-                format!(
-                    "{} m must be finite and shorter than a strand ({} m)",
-                    rsf_numeric::written(self.overlap),
-                    rsf_numeric::number(self.params.w_f)
-                ),
-            ));
+            let w_f = rsf_numeric::number(self.params.w_f);
+            let rule = format!("must be finite and shorter than a strand ({w_f} m)");
+            return Err(invalid_length("overlap", self.overlap, rule));
         }
         Ok(())
     }
@@ -193,21 +186,11 @@ impl Stepover {
             ));
         }
         if !(grid.domain >= self.params.w_f && grid.domain.is_finite()) {
-            return Err(invalid(
-                "domain",
-                format!(
-                    "{} m must be at least W_f ({} m)",
-                    rsf_numeric::written(grid.domain),
-                    rsf_numeric::number(self.params.w_f)
-                ),
-            ));
+            let w_f = rsf_numeric::number(self.params.w_f);
+            let rule = format!("must be at least W_f ({w_f} m)");
+            return Err(invalid_length("domain", grid.domain, rule));
         }
-        if !(1.0..=2.0).contains(&grid.ratio) {
-            return Err(invalid(
-                "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
-            ));
-        }
+        check_ratio(grid.ratio)?;
         Ok(())
     }
 
@@ -318,10 +301,7 @@ impl Stepover {
     ///
     /// # Errors
     /// Invalid parameters.
-    pub fn problem_builder(
-        &self,
-        model: Model<2>,
-    ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2>> {
+    pub fn problem_builder(&self, model: Model<2>) -> Result<Bp1PlaneStrainBuilder> {
         self.validate()?;
         let p = self.params;
         let this = *self;

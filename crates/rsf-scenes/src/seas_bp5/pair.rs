@@ -16,7 +16,7 @@ use rsf::observe::FaultStation;
 use rsf::{Material, Model, ModelBuilder, Part, Result};
 
 use super::{SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh};
-use crate::invalid;
+use crate::{invalid, invalid_length};
 
 /// The names of the two strands: at `x = −separation/2` and `x = +separation/2`.
 pub const BP5_PAIR_FAULTS: [&str; 2] = ["west", "east"];
@@ -92,12 +92,10 @@ impl Bp5Pair {
             ));
         }
         if !(self.separation > 0.0 && self.separation.is_finite()) {
-            return Err(invalid(
+            return Err(invalid_length(
                 "separation",
-                format!(
-                    "{} m must be positive",
-                    rsf_numeric::written(self.separation)
-                ),
+                self.separation,
+                "must be positive",
             ));
         }
         Ok(())

@@ -10,7 +10,7 @@ use rsf::model::{CreepRate, MaterialRegions};
 use rsf::{Material, Model, ModelBuilder, Part, Result};
 
 use super::{SeasBp5, SeasBp5FaultOde};
-use crate::invalid;
+use crate::{check_ratio, invalid};
 
 /// Largest root cube of [`SeasBp5Mesh::Graded`] (m): cells at the far faces, 400 km
 /// from the fault, of at most 64 km (the tensor grid's there at ratio 1.3: about 90 km).
@@ -277,12 +277,7 @@ impl SeasBp5 {
                 ),
             ));
         }
-        if !(1.0..=2.0).contains(&grid.ratio) {
-            return Err(invalid(
-                "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
-            ));
-        }
+        check_ratio(grid.ratio)?;
         let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
         if !(grid.near_fault.is_finite() && multiple(grid.near_fault)) {
             return Err(invalid(

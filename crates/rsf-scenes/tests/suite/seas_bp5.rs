@@ -3,7 +3,7 @@
 //! (A coarse run's ruptures and files, and a stopped and continued run: the crate
 //! rsf-seas's tests.)
 
-use crate::within;
+use crate::{bp5_grid, bp5_zone_grid, within};
 use rsf::halfspace::okada::{dc3d, Rectangle};
 use rsf::Until;
 use rsf_scenes::{SeasBp5, SeasBp5Run, SEAS_BP5_BODY_STATIONS};
@@ -176,10 +176,7 @@ fn a_fault_alone_refuses_what_it_cannot_hold() {
 #[test]
 fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rate() {
     let bp5 = SeasBp5::default();
-    let grid = rsf_scenes::SeasBp5Grid {
-        dx: 5e3,
-        ..rsf_scenes::SeasBp5Grid::default()
-    };
+    let grid = bp5_grid(5e3);
     let model = bp5.fe_model(&grid).unwrap();
     let fault = model.internal_fault.as_ref().unwrap();
     // 21 × 9 frictional nodes on the rate-and-state region; every other pair creeps.
@@ -258,10 +255,7 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
 #[test]
 fn the_fault_alone_operator_refuses_a_body() {
     let bp5 = SeasBp5::default();
-    let grid = rsf_scenes::SeasBp5Grid {
-        dx: 10e3,
-        ..rsf_scenes::SeasBp5Grid::default()
-    };
+    let grid = bp5_grid(10e3);
     let body = bp5.fe_model(&grid).unwrap();
     let err = rsf::halfspace_operator::HalfSpaceOperator::fault_alone(
         &body,
@@ -272,15 +266,6 @@ fn the_fault_alone_operator_refuses_a_body() {
         err,
         rsf::halfspace_operator::HalfSpaceOperatorError::NotAlone
     );
-}
-
-/// The fault zone's grid: 10 km cells, the zone's slab (10 km each side) meshed at `dx`.
-fn zone_grid() -> rsf_scenes::SeasBp5Grid {
-    rsf_scenes::SeasBp5Grid {
-        dx: 10e3,
-        near_fault: 10e3,
-        ..rsf_scenes::SeasBp5Grid::default()
-    }
 }
 
 /// A fault zone without contrast (rigidity ratio 1) is the homogeneous scene on the same
@@ -301,7 +286,7 @@ fn a_fault_zone_without_contrast_gives_the_homogeneous_scenes_bits() {
         homogeneous.radiation_damping().to_bits()
     );
     let run = |bp5: &SeasBp5| {
-        let model = bp5.fe_model(&zone_grid()).unwrap();
+        let model = bp5.fe_model(&bp5_zone_grid()).unwrap();
         let k = model.stiffness.val().to_vec();
         let mut ode = bp5
             .fe_fault_ode(model, bp5.fault_ode_options(1e-6).unwrap())
@@ -347,7 +332,7 @@ fn a_compliant_fault_zone_softens_the_condensed_operator() {
         (zone.radiation_damping() / homogeneous.radiation_damping() - ratio.sqrt()).abs() < 1e-15
     );
     let schur = |bp5: &SeasBp5| {
-        let model = bp5.fe_model(&zone_grid()).unwrap();
+        let model = bp5.fe_model(&bp5_zone_grid()).unwrap();
         let nodes = model.frictional_boundary.nodes.clone();
         let cond =
             rsf::direct::Condensation::<3>::new(model.stiffness.as_ref(), &model.fixed, &nodes)
@@ -392,14 +377,14 @@ fn the_compliant_zone_is_the_slab_of_its_width_over_the_rate_state_region() {
         }),
         ..host
     };
-    let scene = zone.fe_model(&zone_grid()).unwrap();
+    let scene = zone.fe_model(&bp5_zone_grid()).unwrap();
     let (l_f, w_f, nu, rho) = (host.l_f, host.w_f, host.nu, host.rho);
     let material = |mu: f64| rsf::Material::from_shear_modulus(mu, nu, rho);
     let mu = host.shear_modulus();
     let with_slab = |width: f64| {
         let slab =
             move |x: &[f64; 3]| x[0].abs() <= width && x[1].abs() <= 0.5 * l_f && -x[2] <= w_f;
-        host.fe_model_builder(&zone_grid())
+        host.fe_model_builder(&bp5_zone_grid())
             .unwrap()
             .material(MaterialRegions::new(material(mu)).region("slab", slab, material(ratio * mu)))
             .build()
@@ -533,7 +518,7 @@ fn a_fault_zone_the_mesh_does_not_resolve_or_the_half_space_cannot_hold_is_refus
     for (bp5, near) in [(zone(5e3), 10e3), (zone(20e3), 10e3)] {
         let grid = rsf_scenes::SeasBp5Grid {
             near_fault: near,
-            ..zone_grid()
+            ..bp5_zone_grid()
         };
         let e = bp5.fe_model(&grid).unwrap_err();
         assert!(e.to_string().contains("fault_zone.half_width"), "{e}");
@@ -568,10 +553,7 @@ fn schur_case() -> (
     rsf::fault_ode::FaultOdeOptions,
 ) {
     let bp5 = SeasBp5::default();
-    let grid = rsf_scenes::SeasBp5Grid {
-        dx: 10e3,
-        ..rsf_scenes::SeasBp5Grid::default()
-    };
+    let grid = bp5_grid(10e3);
     let model = bp5.fe_model(&grid).unwrap();
     let mut vertices: Vec<usize> = SeasBp5::body_station_points()
         .iter()
@@ -754,10 +736,7 @@ fn bp5_elimination_plan() {
     let bp5 = SeasBp5::default();
     for dx in list.split(',').map(|d| d.trim().parse::<f64>().unwrap()) {
         let clock = std::time::Instant::now();
-        let grid = rsf_scenes::SeasBp5Grid {
-            dx,
-            ..rsf_scenes::SeasBp5Grid::default()
-        };
+        let grid = bp5_grid(dx);
         let model = bp5.fe_model(&grid).unwrap();
         let built = clock.elapsed().as_secs_f64();
         let ordering = match std::env::var("RSF_BP5_PLAN_ORDERING").as_deref() {
@@ -831,10 +810,7 @@ fn the_nucleation_patchs_weights_sum_to_its_area() {
         );
     }
     for dx in [10e3, 5e3] {
-        let grid = rsf_scenes::SeasBp5Grid {
-            dx,
-            ..rsf_scenes::SeasBp5Grid::default()
-        };
+        let grid = bp5_grid(dx);
         let (spacing, exact, closed) = sums(&bp5.fe_model(&grid).unwrap());
         println!("nodes, Δx = {dx}: {exact:e} m² (closed intervals {closed:e})");
         assert_eq!(spacing, dx);

@@ -4,7 +4,7 @@
 //! the files' first rows are the description's values, and a pressure that would open
 //! the fault is a typed error.
 
-use crate::within;
+use crate::{within, StepTimes};
 use std::sync::Arc;
 
 use rsf::fault_ode::FaultKernel;
@@ -147,14 +147,7 @@ fn steps_end_at_the_shut_in_and_the_files_start_at_the_descriptions_values() {
     let mut out = rsf_seas::SeasBp6Output::new(&dir, fault, pressure, setup).unwrap();
     out.write_initial_state(ode.model(), ode.state(), ode.fault_tractions());
     // Record the step times through the shut-in.
-    struct Times(Vec<f64>);
-    impl rsf::Observer<2, 2> for Times {
-        fn observe(&mut self, s: &rsf::StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
-            self.0.push(s.state.time);
-            Ok(rsf::Flow::Continue(()))
-        }
-    }
-    let mut times = Times(Vec::new());
+    let mut times = StepTimes(Vec::new());
     ode.run_until(within(110.0 * DAY), &mut [&mut out, &mut times])
         .unwrap();
     assert!(

@@ -14,6 +14,8 @@ use rsf::pore_pressure::{
 use rsf::{Stepping, Until};
 use rsf_scenes::SeasBp5;
 
+use crate::{bp5_zone_grid, StepTimes};
+
 fn bits(x: &[f64]) -> Vec<u64> {
     x.iter().map(|v| v.to_bits()).collect()
 }
@@ -116,15 +118,6 @@ fn a_uniform_surface_pressure_is_the_lowered_normal_stress_on_a_fault_alone() {
     assert_eq!(with_p, plain);
 }
 
-/// BP5's volume with its internal fault on 10 km cells (the fault zone's test grid).
-fn volume_grid() -> rsf_scenes::SeasBp5Grid {
-    rsf_scenes::SeasBp5Grid {
-        dx: 10e3,
-        near_fault: 10e3,
-        ..rsf_scenes::SeasBp5Grid::default()
-    }
-}
-
 #[test]
 fn a_uniform_surface_pressure_is_the_lowered_normal_stress_in_a_volume_on_both_engines() {
     let bp5 = SeasBp5::default();
@@ -133,7 +126,7 @@ fn a_uniform_surface_pressure_is_the_lowered_normal_stress_in_a_volume_on_both_e
         sigma_n: bp5.sigma_n - p0,
         ..bp5
     };
-    let model = bp5.fe_model(&volume_grid()).unwrap();
+    let model = bp5.fe_model(&bp5_zone_grid()).unwrap();
     // The fault ODE, 40 steps.
     let ode = |laws: &SeasBp5, pressure: Option<Arc<dyn PorePressure<3>>>| {
         let mut o = bp5.fault_ode_options(1e-6).unwrap();
@@ -185,14 +178,7 @@ fn the_fault_ode_ends_a_step_at_the_shut_in() {
     let bp5 = SeasBp5::default();
     let pressure = field(1.0, 1000.0, 0.0);
     let mut ode = bp5_fault_alone(bp5, Some(pressure.clone()));
-    struct Times(Vec<f64>);
-    impl rsf::Observer<3, 3> for Times {
-        fn observe(&mut self, s: &rsf::StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
-            self.0.push(s.state.time);
-            Ok(rsf::Flow::Continue(()))
-        }
-    }
-    let mut times = Times(Vec::new());
+    let mut times = StepTimes(Vec::new());
     ode.run_until(
         Until::TimeWithin {
             time: 2000.0,

@@ -14,20 +14,21 @@ pub(super) const FAULT_COLUMNS: [(&str, &str); 8] = [
     ("state", "State (log10 s)"),
 ];
 
-/// BP8's station columns: BP5's and the pressure's before the state.
-pub(super) const PRESSURE_FAULT_COLUMNS: [(&str, &str); 11] = [
-    ("t", "Time (s)"),
-    ("slip_2", "Slip_2 (m)"),
-    ("slip_3", "Slip_3 (m)"),
-    ("slip_rate_2", "Slip_rate_2 (log10 m/s)"),
-    ("slip_rate_3", "Slip_rate_3 (log10 m/s)"),
-    ("shear_stress_2", "Shear_stress_2 (MPa)"),
-    ("shear_stress_3", "Shear_stress_3 (MPa)"),
+/// BP8's columns of the pore pressure and the Darcy velocity.
+const PRESSURE_COLUMNS: [(&str, &str); 3] = [
     ("pore_pressure", "Pore_pressure (MPa)"),
     ("darcy_vel_2", "Darcy_vel_2 (m/s)"),
     ("darcy_vel_3", "Darcy_vel_3 (m/s)"),
-    ("state", "State (log10 s)"),
 ];
+
+/// BP8's station columns: BP5's and the pressure's before the state.
+pub(super) const PRESSURE_FAULT_COLUMNS: [(&str, &str); 11] = {
+    let [t, slip_2, slip_3, v_2, v_3, tau_2, tau_3, state] = FAULT_COLUMNS;
+    let [p, darcy_2, darcy_3] = PRESSURE_COLUMNS;
+    [
+        t, slip_2, slip_3, v_2, v_3, tau_2, tau_3, p, darcy_2, darcy_3, state,
+    ]
+};
 
 pub(super) const BODY_COLUMNS: [(&str, &str); 7] = [
     ("t", "Time (s)"),

@@ -71,20 +71,15 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
             sim.run(steps, &mut observers).unwrap();
         };
     let (whole, parts) = (temp_dir("seas-whole"), temp_dir("seas-parts"));
-    let mut sim = build();
-    let mut out = output(&whole, &sim, FileMode::Overwrite)
-        .unwrap()
-        .with_resume_log(FileMode::Overwrite)
-        .unwrap();
-    run(&whole, &mut sim, &mut out, 40);
-    drop(out);
-    let mut sim = build();
-    let mut out = output(&parts, &sim, FileMode::Overwrite)
-        .unwrap()
-        .with_resume_log(FileMode::Overwrite)
-        .unwrap();
-    run(&parts, &mut sim, &mut out, 22);
-    drop(out);
+    // The whole run, and the part that stops after 22 steps.
+    for (dir, steps) in [(&whole, 40), (&parts, 22)] {
+        let mut sim = build();
+        let mut out = output(dir, &sim, FileMode::Overwrite)
+            .unwrap()
+            .with_resume_log(FileMode::Overwrite)
+            .unwrap();
+        run(dir, &mut sim, &mut out, steps);
+    }
     let c = read_checkpoint(&parts.join("checkpoint.bin"), &fingerprint, &[]).unwrap();
     assert_eq!(c.state.step, 15);
     // The thinning matters: fewer station rows than steps, more than one.

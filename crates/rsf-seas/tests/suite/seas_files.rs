@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use rsf::observe::{FileMode, StepView};
 use rsf::{Flow, Observer, Until};
-use rsf_scenes::{SeasBp1, SeasBp1FaultOde, SEAS_BP1_STATION_DEPTHS};
+use rsf_scenes::{SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 use rsf_seas::{SeasOutput, SeasSetup, SEAS_BP1_STATION_COLUMNS, SECONDS_PER_YEAR};
 
 /// The stations on the small BP1's 10 km fault (0, 2.5, 5, 7.5, 10 km).
@@ -23,6 +23,13 @@ fn temp_dir(name: &str) -> PathBuf {
     std::fs::remove_dir_all(&d).ok();
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// The fault ODE of `bp1` on `grid` (tolerance 1e-6).
+fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid) -> SeasBp1FaultOde {
+    let model = bp1.model(grid, false).unwrap();
+    bp1.fault_ode(model, bp1.fault_ode_options(1e-6).unwrap())
+        .unwrap()
 }
 
 fn setup(bp1: &SeasBp1, dz: f64) -> SeasSetup {
@@ -264,10 +271,7 @@ fn check_times(rows: &[Vec<f64>], name: &str) {
 #[test]
 fn every_file_follows_the_description_and_holds_the_models_values() {
     let (bp1, grid) = crate::common::small_bp1(&SeasBp1::default());
-    let model = bp1.model(&grid, false).unwrap();
-    let mut ode = bp1
-        .fault_ode(model, bp1.fault_ode_options(1e-6).unwrap())
-        .unwrap();
+    let mut ode = fault_ode(&bp1, &grid);
     let dir = temp_dir("bp1");
     let setup = setup(&bp1, grid.dz);
     // Through the first event (about 80 years on the small fault).
@@ -437,10 +441,7 @@ fn steady_creep_files_show_the_plate_rate_and_the_steady_stress() {
         a0: bp1.a_max,
         ..bp1
     };
-    let model = bp1.model(&grid, false).unwrap();
-    let mut ode = bp1
-        .fault_ode(model, bp1.fault_ode_options(1e-6).unwrap())
-        .unwrap();
+    let mut ode = fault_ode(&bp1, &grid);
     let dir = temp_dir("creep");
     let setup = setup(&bp1, grid.dz);
     run_with_output(&mut ode, setup.clone(), &dir, 20.0);

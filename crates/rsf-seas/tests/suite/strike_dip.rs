@@ -63,6 +63,15 @@ fn setup(dx: f64) -> SeasSetup {
     run.seas_setup(&SeasBp5::default(), "test".into(), "2026-11-26".into())
 }
 
+/// The row count `# num_time_steps=N` of a SEAS file's `lines`.
+fn num_time_steps<'a>(mut lines: impl Iterator<Item = &'a str>) -> usize {
+    lines
+        .find_map(|l| l.strip_prefix("# num_time_steps="))
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
 /// The rows of a SEAS file: checks its header (problem, `# Column #k` lines, the field
 /// line, `num_time_steps`) and every number's `%E` form.
 fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
@@ -111,12 +120,7 @@ fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
             tokens.iter().map(|t| t.parse().unwrap()).collect()
         })
         .collect();
-    let count: usize = header
-        .iter()
-        .find_map(|l| l.strip_prefix("# num_time_steps="))
-        .unwrap()
-        .parse()
-        .unwrap();
+    let count = num_time_steps(header.iter().copied());
     assert_eq!(count, rows.len(), "{}", path.display());
     rows
 }
@@ -125,8 +129,7 @@ fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
 fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
     let bp5 = SeasBp5::default();
     let dx = 4000.0;
-    let dir = std::env::temp_dir().join(format!("rsf_bp5_coarse_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = crate::common::temp_dir("bp5-coarse");
     let (mut ode, columns) = with_stations(&bp5, dx);
     let mut output = bp5.output(&dir, dx, columns, setup(dx)).unwrap();
     output.write_initial_state(
@@ -262,12 +265,7 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
             .collect();
         assert!(rows.iter().all(|r| r.len() == 2 + points), "{name}");
         assert_eq!(&rows[0][..2], &[0.0, 0.0], "{name}: the positions row");
-        let count: usize = text
-            .lines()
-            .find_map(|l| l.strip_prefix("# num_time_steps="))
-            .unwrap()
-            .parse()
-            .unwrap();
+        let count = num_time_steps(text.lines());
         assert_eq!(count, rows.len() - 1, "{name}");
         // Profiles every 5 years between events: about 50 in 250 years, more in events.
         assert!(rows.len() > 50, "{name}: {} rows", rows.len());
@@ -320,8 +318,7 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
 fn a_stopped_and_continued_run_writes_the_same_bytes() {
     let bp5 = SeasBp5::default();
     let dx = 4000.0;
-    let base = std::env::temp_dir().join(format!("rsf_bp5_resume_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&base);
+    let base = crate::common::temp_dir("bp5-resume");
     let end = Until::TimeWithin {
         time: 190.0 * SECONDS_PER_YEAR,
         max_steps: 500_000,
