@@ -200,7 +200,7 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> rsf::Error {
 ///
 /// # Panics
 /// If `result` is not an [`rsf::Error::InvalidParameter`].
-#[cfg(test)]
+#[cfg(all(test, feature = "seas"))]
 pub(crate) fn refused_name(result: rsf::Result<()>) -> String {
     match result {
         Err(rsf::Error::InvalidParameter { name, .. }) => name,
@@ -212,6 +212,7 @@ pub(crate) fn refused_name(result: rsf::Result<()>) -> String {
 ///
 /// # Errors
 /// [`rsf::Error::InvalidParameter`] named `ratio`, with its value.
+#[cfg(feature = "seas")]
 pub(crate) fn check_ratio(ratio: f64) -> rsf::Result<()> {
     if (1.0..=2.0).contains(&ratio) {
         Ok(())
@@ -225,6 +226,7 @@ pub(crate) fn check_ratio(ratio: f64) -> rsf::Result<()> {
 
 /// [`invalid`] named `name` for the length `value` (m) that breaks `rule`: "`value` m
 /// `rule`", the value as [`rsf_numeric::written`] writes it.
+#[cfg(feature = "seas")]
 pub(crate) fn invalid_length(name: &str, value: f64, rule: impl std::fmt::Display) -> rsf::Error {
     invalid(name, format!("{} m {rule}", rsf_numeric::written(value)))
 }
