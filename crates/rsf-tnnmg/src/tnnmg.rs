@@ -265,7 +265,7 @@ impl<const D: usize> Tnnmg<D> {
 
     /// Number of linear multigrid cycles (preconditioner applications with
     /// [`LinearCorrection::PreconditionedCg`]) in the last call of
-    /// [`solve`](NonsmoothSolver::solve), over all its iterations.
+    /// [`solve`](rsf_nonsmooth::NonsmoothSolver::solve), over all its iterations.
     pub fn last_solve_cycles(&self) -> usize {
         self.cycles
     }

@@ -47,7 +47,7 @@ pub(super) struct NormRows<const D: usize> {
 /// bits; both converge to the same minimiser.
 ///
 /// The caller's vectors are global and replicated: every rank passes the same `b` and
-/// start `v` (length `D n`), and after [`solve`](NonsmoothSolver::solve) every rank's `v`
+/// start `v` (length `D n`), and after [`solve`](rsf_nonsmooth::NonsmoothSolver::solve) every rank's `v`
 /// holds the whole solution (one all-gather of the owned values). The nonlinearity is the
 /// same global object on every rank; a rank applies the per-block operations to the
 /// active blocks of the nodes it owns, and the linearisation and the line search (which
