@@ -4,6 +4,10 @@ use crate::potentials::{finite_ln_vm, linear_solution, sat, LawParams, RateState
 use crate::{ConvexPotential, FrictionLaw, Result};
 use rsf_numeric::{solve_increasing_from, solve_increasing_from_upper_end, wright_omega_ln};
 
+/// `q = ln(s/(2V_m))` from which the friction solve takes the Dieterich–Ruina equation's
+/// closed form (`AsinhPotential::dieterich_ruina_exact`): `asinh(e^q) − q − ln 2 < e^{−2q}/4`.
+const DR_EXACT_Q: f64 = 20.0;
+
 /// `asinh(e^q)` without overflow.
 fn asinh_exp(q: f64) -> f64 {
     if q <= 0.0 {
@@ -103,9 +107,12 @@ impl ConvexPotential for AsinhPotential {
     /// Wright-omega solution of the Dieterich–Ruina equation (an upper bound because
     /// `asinh(y) ≥ ln(2y)`), started at the end where `|g|` is smaller.
     ///
-    /// Slipping above `V_m`, where the solve starts at `x_DR` and its Newton steps stay far
-    /// from the lower end, that end (an exponential and a logarithm) and `g` there are not
-    /// formed: the same iterates and the same number, bit for bit (`dr_shortcut` says why).
+    /// Where the solution slips so far above `V_m` that `asinh(y) = ln(2y)` to round-off
+    /// (`y ≥ e^20`), `x_DR` is the root and is returned without iterating
+    /// (`dieterich_ruina_exact`). Slipping above `V_m` otherwise, where the solve starts at
+    /// `x_DR` and its Newton steps stay far from the lower end, that end (an exponential
+    /// and a logarithm) and `g` there are not formed: the same iterates and the same
+    /// number as the bracketed solve, bit for bit (`dr_shortcut` says why).
     fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
         if !(r > 0.0) {
             // A NaN traction is not "stuck": it propagates (docs/reliability.md).
@@ -115,6 +122,16 @@ impl ConvexPotential for AsinhPotential {
         if c == 0.0 {
             return linear_solution(a, r);
         }
+        if let Some(x) = self.dieterich_ruina_exact(a, c, r) {
+            return sat(x.exp());
+        }
+        self.iterated(a, c, r)
+    }
+}
+
+impl AsinhPotential {
+    /// [`minimize`](ConvexPotential::minimize)'s iterated solve for `r > 0` and `c = wκ > 0`.
+    fn iterated(&self, a: f64, c: f64, r: f64) -> f64 {
         let l = self.ln_vm;
         let (la, lc, lr) = (a.ln(), c.ln(), r.ln());
         let mut hi = lr - la;
@@ -134,9 +151,7 @@ impl ConvexPotential for AsinhPotential {
         let lo = lr - (m + (n - m).exp().ln_1p());
         self.bracketed(a, c, r, lo, hi)
     }
-}
 
-impl AsinhPotential {
     /// `g(x) = a eˣ + c asinh(eˣ/(2V_m)) − r` and `g'(x)`, the friction solve's equation in
     /// `x = ln s`.
     #[inline]
@@ -162,6 +177,37 @@ impl AsinhPotential {
             (hi, ghi)
         };
         sat(solve_increasing_from(g, lo, hi, x0, start).exp())
+    }
+
+    /// `ln s` in closed form where the solution slips far above the cutoff: `None` unless
+    /// `q = ln(s/(2V_m)) ≥ DR_EXACT_Q` at it.
+    ///
+    /// There `asinh(e^q) = q + ln 2 + ε` with `0 < ε < e^{−2q}/4 < 1.1·10⁻¹⁸`, so the
+    /// equation is the Dieterich–Ruina one with damping, `a s + c (ln s − ln V_m) = r`, to
+    /// within `εc` — below the rounding of its terms (`r ≥ c q ≥ 20c`). Its root is `x_DR`,
+    /// `ln s = x₀ − ω(z) = ln ω(z) − ln(a/c)` with `x₀ = ln V_m + r/c` (the undamped
+    /// solution), `z = x₀ + ln(a/c)` and `ω` the Wright omega function: no iteration on `g`,
+    /// one logarithm and one to three exponentials where the iterated solve takes some
+    /// fifteen. The first form where the damping is small (`z < −9`, `ω` by its series),
+    /// the second where it is not (no cancellation of `x₀` against `ω`). Either agrees with
+    /// the bracketed solve to the root's conditioning (a proptest below).
+    fn dieterich_ruina_exact(&self, a: f64, c: f64, r: f64) -> Option<f64> {
+        let rc = r / c;
+        if !(rc >= DR_EXACT_Q + LN_2 && a >= 0.0) {
+            return None;
+        }
+        let x0 = self.ln_vm + rc;
+        let ln_ac = (a / c).ln();
+        let z = x0 + ln_ac;
+        let x = if z < -9.0 {
+            // W(e^z) = e − e² + (3/2)e³ − (8/3)e⁴ + …, e = e^z < 1.3·10⁻⁴: the next term
+            // (125/24)e⁵ is below 2·10⁻¹⁹ (and z = −∞, a = 0, gives 0).
+            let e = z.exp();
+            x0 - e * (1.0 - e * (1.0 - e * (1.5 - e * (8.0 / 3.0))))
+        } else {
+            wright_omega_ln(z) - ln_ac
+        };
+        (x.is_finite() && x - LN_2 - self.ln_vm >= DR_EXACT_Q).then_some(x)
     }
 
     /// `ln s` from the upper end `x_DR` alone, when the bracketed solve would start there and
@@ -268,6 +314,13 @@ mod tests {
         p.bracketed(a, c, r, lo, hi)
     }
 
+    /// `minimize` without the closed form: the iterated solve, whose shortcut keeps the
+    /// bracketed solve's bits.
+    fn iterated_solve(p: &AsinhPotential, a: f64, r: f64, w: f64) -> f64 {
+        let c = sat(w.max(0.0) * p.kappa);
+        p.iterated(a, c, r)
+    }
+
     /// Whether `minimize` took the shortcut for these inputs.
     fn shortcut_taken(p: &AsinhPotential, a: f64, r: f64, w: f64) -> bool {
         let c = sat(w.max(0.0) * p.kappa);
@@ -300,7 +353,7 @@ mod tests {
                             continue;
                         }
                         cases += 1;
-                        let fast = p.minimize(a, r, 1.0);
+                        let fast = iterated_solve(&p, a, r, 1.0);
                         let full = bracketed_always(&p, a, r, 1.0);
                         assert_eq!(fast.to_bits(), full.to_bits(), "{ln_vm} {kappa} {a} {d}");
                         let taken = shortcut_taken(&p, a, r, 1.0);
@@ -346,9 +399,67 @@ mod tests {
                 r_abs
             };
             prop_assume!(r > 0.0 && r.is_finite());
-            let fast = p.minimize(a, r, w);
+            let fast = iterated_solve(&p, a, r, w);
             let full = bracketed_always(&p, a, r, w);
             prop_assert_eq!(fast.to_bits(), full.to_bits());
+        }
+
+        /// `minimize` (which takes the closed form far above the cutoff) against the
+        /// always-bracketed solve over the same inputs: within the root's conditioning,
+        /// `|Δ ln s| ≤ 16 ε (1 + r/c + |ln V_m| + |ln s|)` (`d ln s = dr/c` near the root,
+        /// and both solves round `r/c`, `ln V_m` and `ln s`).
+        #[test]
+        fn minimize_agrees_with_the_bracketed_solve_to_its_conditioning(
+            ln_vm in prop_oneof![-1e300..-1e4, -1e4..-700.0, -700.0..5.0_f64, 5.0..1e300_f64],
+            kappa in (-3.0..8.0_f64).prop_map(|e| 10f64.powf(e)),
+            a in (-8.0..13.0_f64).prop_map(|e| 10f64.powf(e)),
+            w in (-6.0..1.0_f64).prop_map(|e| 10f64.powf(e)),
+            d in -40.0..60.0_f64,
+            r_abs in (-30.0..12.0_f64).prop_map(|e| 10f64.powf(e)),
+            by_slip in any::<bool>(),
+        ) {
+            let p = AsinhPotential::new(ln_vm, kappa);
+            let r = if by_slip && ln_vm > -690.0 {
+                traction(&p, a, w, (ln_vm + LN_2 + d).min(600.0).exp())
+            } else {
+                r_abs
+            };
+            prop_assume!(r > 0.0 && r.is_finite());
+            let fast = p.minimize(a, r, w);
+            let full = bracketed_always(&p, a, r, w);
+            prop_assert!(fast.is_finite() && fast >= 0.0);
+            if fast == full {
+                return Ok(());
+            }
+            prop_assert!(fast > 0.0 && full > 0.0, "{fast} {full}");
+            let (x, y) = (fast.ln(), full.ln());
+            let c = w * kappa;
+            let bound = 16.0 * f64::EPSILON * (1.0 + r / c + ln_vm.abs() + x.abs());
+            prop_assert!((x - y).abs() <= bound, "{fast} {full}: {} > {bound}", (x - y).abs());
+        }
+    }
+
+    #[test]
+    fn the_closed_form_is_taken_far_above_the_cutoff_only() {
+        // Slip rates e^d·2V_m at BP1's scale: the closed form exactly where q ≥ 20 at the
+        // root, and its answer a root of the full equation to the traction's rounding.
+        for ln_vm in [-60.0, -20.0, 0.0] {
+            for a in [0.0, 1.0, 4.6e6, 1e12] {
+                for d in [5.0, 19.9, 20.1, 45.0] {
+                    let (p, kappa) = (AsinhPotential::new(ln_vm, 5e5), 5e5);
+                    let s = (ln_vm + LN_2 + d).exp();
+                    let r = traction(&p, a, 1.0, s);
+                    let x = p.dieterich_ruina_exact(a, kappa, r);
+                    assert_eq!(x.is_some(), d > 20.0, "{ln_vm} {a} {d}");
+                    if let Some(x) = x {
+                        // |Δx| = |residual|/g'(x) with g' ≈ a s + c: a few ulps of x.
+                        let residual = traction(&p, a, 1.0, x.exp()) - r;
+                        let slope = a * x.exp() + kappa;
+                        let bound = 8.0 * f64::EPSILON * (r + slope * x.abs());
+                        assert!(residual.abs() <= bound, "{residual} of {r}");
+                    }
+                }
+            }
         }
     }
 }
