@@ -700,13 +700,20 @@ impl IntegratorArgs {
                  pair's stability limit, and back once RKC2's step h had h ρ ≤ 1.1 (ρ its \
                  spectral radius estimate) in 15 steps in a row"
             }
-            OdeIntegrator::Rkc => "rkc: RKC2 throughout (asked for)",
-            OdeIntegrator::Rosenbrock => {
-                "rosenbrock: ROS34PW2 throughout (asked for), its stage solves by GMRES \
-                 preconditioned by the nodes' local Jacobians"
+            OdeIntegrator::Rkc => {
+                "rkc: RKC2 throughout (by name: the flag or the program's default)"
             }
-            OdeIntegrator::DormandPrince => "dormand-prince: the explicit pair (asked for)",
-            OdeIntegrator::BogackiShampine => "bogacki-shampine: the explicit pair (asked for)",
+            OdeIntegrator::Rosenbrock => {
+                "rosenbrock: ROS34PW2 throughout (by name: the flag or the program's \
+                 default), its stage solves by GMRES preconditioned by the nodes' local \
+                 Jacobians"
+            }
+            OdeIntegrator::DormandPrince => {
+                "dormand-prince: the explicit pair (by name: the flag or the program's default)"
+            }
+            OdeIntegrator::BogackiShampine => {
+                "bogacki-shampine: the explicit pair (by name: the flag or the program's default)"
+            }
         };
         serde_json::json!({
             "integrator": self.integrator.name(),

@@ -238,8 +238,8 @@ pub(crate) fn slider_3d(
 /// The SCEC SEAS benchmark BP1-QD (docs/seas-bp1.md): the quasi-dynamic equations condensed
 /// onto the fault, Dormand–Prince 5(4), as the Rust program `seas_bp1` runs them with the
 /// same flags (`dz` = `--dz`, `domain_km`, `ratio`, `rk_tolerance`, `kernel`
-/// "hierarchical" or "dense", `kernel_epsilon`, `integrator` — "auto", the program's
-/// default, "rkc", "rosenbrock", "dormand-prince" or "bogacki-shampine" —, `threads`,
+/// "hierarchical" or "dense", `kernel_epsilon`, `integrator` — "dormand-prince", the
+/// program's default, "auto", "rkc", "rosenbrock" or "bogacki-shampine" —, `threads`,
 /// `end_years`, `every_step`, `modeler`, `date`). With `out`, the benchmark's files (`fltst_dp*`, `devol.dat`,
 /// `events.csv`, and their resume log `seas_resume.csv`) are written there as the program
 /// writes them (the folder refused if it holds another run's files, unless `overwrite`);
@@ -257,7 +257,7 @@ pub(crate) fn slider_3d(
 /// `sigma_n`, `a0`, `a_max`, `b0`, `d_c`, `v_p`, `v_init`, `v0`, `f0`, `h_top`,
 /// `h_transition`, `w_f`; SI units), each checked against its range.
 #[pyfunction]
-#[pyo3(signature = (*, dz=SeasBp1Run::default().dz, domain_km=SeasBp1Run::default().domain_km, ratio=SeasBp1Run::default().ratio, rk_tolerance=SeasBp1Run::default().rk_tolerance, kernel="hierarchical", kernel_epsilon=None, integrator="auto", threads=None, end_years=SeasBp1Run::default().end_years, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, dz=SeasBp1Run::default().dz, domain_km=SeasBp1Run::default().domain_km, ratio=SeasBp1Run::default().ratio, rk_tolerance=SeasBp1Run::default().rk_tolerance, kernel="hierarchical", kernel_epsilon=None, integrator="dormand-prince", threads=None, end_years=SeasBp1Run::default().end_years, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn seas_bp1(
     dz: f64,
