@@ -187,8 +187,9 @@ impl AsinhPotential {
     /// within `εc` — below the rounding of its terms (`r ≥ c q ≥ 20c`). Its root is `x_DR`,
     /// `ln s = x₀ − ω(z) = ln ω(z) − ln(a/c)` with `x₀ = ln V_m + r/c` (the undamped
     /// solution), `z = x₀ + ln(a/c)` and `ω` the Wright omega function: no iteration on `g`,
-    /// one logarithm and one to three exponentials where the iterated solve takes some
-    /// fifteen. The first form where the damping is small (`z < −9`, `ω` by its series),
+    /// one logarithm and two exponentials where the damping is small (plus a Wright-omega
+    /// evaluation where it is not) against some fifteen of the iterated solve. The first
+    /// form where the damping is small (`z < −9`, `ω` by its series),
     /// the second where it is not (no cancellation of `x₀` against `ω`). Either agrees with
     /// the bracketed solve to the root's conditioning (a proptest below).
     fn dieterich_ruina_exact(&self, a: f64, c: f64, r: f64) -> Option<f64> {
