@@ -379,12 +379,16 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(4000))]
-        /// The shortcut against the always-bracketed solve, bit for bit, over `ln V_m` up to
-        /// the clamp `±1e300`, eleven decades of `κ`, 21 of `a`, seven of `w`, tractions of
-        /// slip rates from `V_m e⁻⁴⁰` to `V_m e⁶⁰` and absolute ones (passed with
-        /// `PROPTEST_CASES=100000` too).
+        /// Two solves against the always-bracketed one, over `ln V_m` up to the clamp
+        /// `±1e300`, eleven decades of `κ`, 21 of `a`, seven of `w`, tractions of slip rates
+        /// from `V_m e⁻⁴⁰` to `V_m e⁶⁰` and absolute ones (passed with
+        /// `PROPTEST_CASES=100000` too):
+        /// - the iterated solve with its shortcut, bit for bit;
+        /// - `minimize` (which takes the closed form far above the cutoff) within the root's
+        ///   conditioning, `|Δ ln s| ≤ 16 ε (1 + r/c + |ln V_m| + |ln s|)` (`d ln s = dr/c`
+        ///   near the root, and both solves round `r/c`, `ln V_m` and `ln s`).
         #[test]
-        fn the_shortcut_never_changes_a_bit(
+        fn the_shortcut_never_changes_a_bit_and_the_closed_form_agrees_to_its_conditioning(
             ln_vm in prop_oneof![-1e300..-1e4, -1e4..-700.0, -700.0..5.0_f64, 5.0..1e300_f64],
             kappa in (-3.0..8.0_f64).prop_map(|e| 10f64.powf(e)),
             a in (-8.0..13.0_f64).prop_map(|e| 10f64.powf(e)),
@@ -400,34 +404,9 @@ mod tests {
                 r_abs
             };
             prop_assume!(r > 0.0 && r.is_finite());
-            let fast = iterated_solve(&p, a, r, w);
             let full = bracketed_always(&p, a, r, w);
-            prop_assert_eq!(fast.to_bits(), full.to_bits());
-        }
-
-        /// `minimize` (which takes the closed form far above the cutoff) against the
-        /// always-bracketed solve over the same inputs: within the root's conditioning,
-        /// `|Δ ln s| ≤ 16 ε (1 + r/c + |ln V_m| + |ln s|)` (`d ln s = dr/c` near the root,
-        /// and both solves round `r/c`, `ln V_m` and `ln s`).
-        #[test]
-        fn minimize_agrees_with_the_bracketed_solve_to_its_conditioning(
-            ln_vm in prop_oneof![-1e300..-1e4, -1e4..-700.0, -700.0..5.0_f64, 5.0..1e300_f64],
-            kappa in (-3.0..8.0_f64).prop_map(|e| 10f64.powf(e)),
-            a in (-8.0..13.0_f64).prop_map(|e| 10f64.powf(e)),
-            w in (-6.0..1.0_f64).prop_map(|e| 10f64.powf(e)),
-            d in -40.0..60.0_f64,
-            r_abs in (-30.0..12.0_f64).prop_map(|e| 10f64.powf(e)),
-            by_slip in any::<bool>(),
-        ) {
-            let p = AsinhPotential::new(ln_vm, kappa);
-            let r = if by_slip && ln_vm > -690.0 {
-                traction(&p, a, w, (ln_vm + LN_2 + d).min(600.0).exp())
-            } else {
-                r_abs
-            };
-            prop_assume!(r > 0.0 && r.is_finite());
+            prop_assert_eq!(iterated_solve(&p, a, r, w).to_bits(), full.to_bits());
             let fast = p.minimize(a, r, w);
-            let full = bracketed_always(&p, a, r, w);
             prop_assert!(fast.is_finite() && fast >= 0.0);
             if fast == full {
                 return Ok(());

@@ -693,6 +693,7 @@ impl IntegratorArgs {
     /// and evaluations of each method, `auto`'s changes and why it chose as it did.
     pub fn summary(&self, stats: Option<rsf::fault_ode::StepperStats>) -> serde_json::Value {
         use rsf::fault_ode::OdeIntegrator;
+        // Every choice but `auto` is the one named (by the flag or the program's default).
         let why = match self.integrator {
             OdeIntegrator::Auto => {
                 "auto: Dormand–Prince 5(4) while its step is set by accuracy; RKC2 after 15 \
@@ -700,20 +701,13 @@ impl IntegratorArgs {
                  pair's stability limit, and back once RKC2's step h had h ρ ≤ 1.1 (ρ its \
                  spectral radius estimate) in 15 steps in a row"
             }
-            OdeIntegrator::Rkc => {
-                "rkc: RKC2 throughout (by name: the flag or the program's default)"
-            }
+            OdeIntegrator::Rkc => "rkc: RKC2 throughout (by name)",
             OdeIntegrator::Rosenbrock => {
-                "rosenbrock: ROS34PW2 throughout (by name: the flag or the program's \
-                 default), its stage solves by GMRES preconditioned by the nodes' local \
-                 Jacobians"
+                "rosenbrock: ROS34PW2 throughout (by name), its stage solves by GMRES \
+                 preconditioned by the nodes' local Jacobians"
             }
-            OdeIntegrator::DormandPrince => {
-                "dormand-prince: the explicit pair (by name: the flag or the program's default)"
-            }
-            OdeIntegrator::BogackiShampine => {
-                "bogacki-shampine: the explicit pair (by name: the flag or the program's default)"
-            }
+            OdeIntegrator::DormandPrince => "dormand-prince: the explicit pair (by name)",
+            OdeIntegrator::BogackiShampine => "bogacki-shampine: the explicit pair (by name)",
         };
         serde_json::json!({
             "integrator": self.integrator.name(),
