@@ -257,7 +257,7 @@ pub(crate) fn slider_3d(
 /// `sigma_n`, `a0`, `a_max`, `b0`, `d_c`, `v_p`, `v_init`, `v0`, `f0`, `h_top`,
 /// `h_transition`, `w_f`; SI units), each checked against its range.
 #[pyfunction]
-#[pyo3(signature = (*, dz=SeasBp1Run::default().dz, domain_km=SeasBp1Run::default().domain_km, ratio=SeasBp1Run::default().ratio, rk_tolerance=SeasBp1Run::default().rk_tolerance, kernel="hierarchical", kernel_epsilon=None, integrator="dormand-prince", threads=None, end_years=SeasBp1Run::default().end_years, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, dz=SeasBp1Run::default().dz, domain_km=SeasBp1Run::default().domain_km, ratio=SeasBp1Run::default().ratio, rk_tolerance=SeasBp1Run::default().rk_tolerance, kernel="hierarchical", kernel_epsilon=None, integrator=SeasBp1Run::default().integrator.name(), threads=None, end_years=SeasBp1Run::default().end_years, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn seas_bp1(
     dz: f64,

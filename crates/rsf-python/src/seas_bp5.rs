@@ -40,7 +40,7 @@ use crate::simulation::Simulation;
 /// `l_nucleation`, `sigma_n`, `v_init`, `v_i`, `h_s`, `h_t`, `h`, `l_core`, `w`, …, SI
 /// units).
 #[pyfunction]
-#[pyo3(signature = (*, kernel="okada", dx=SeasBp5Run::default().dx, domain_km=None, ratio=None, mesh=None, condensation=None, ordering=None, fault_zone_width_km=None, fault_zone_rigidity=None, end_years=SeasBp5Run::default().end_years, tolerance=SeasBp5Run::default().tolerance, epsilon=SeasBp5Run::default().epsilon, integrator="dormand-prince", threads=None, out=None, overwrite=false, resume=None, allow_change=Vec::new(), modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, kernel="okada", dx=SeasBp5Run::default().dx, domain_km=None, ratio=None, mesh=None, condensation=None, ordering=None, fault_zone_width_km=None, fault_zone_rigidity=None, end_years=SeasBp5Run::default().end_years, tolerance=SeasBp5Run::default().tolerance, epsilon=SeasBp5Run::default().epsilon, integrator=SeasBp5Run::default().integrator.name(), threads=None, out=None, overwrite=false, resume=None, allow_change=Vec::new(), modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)] // Python's keyword arguments
 pub(crate) fn seas_bp5(
     kernel: &str,

@@ -216,7 +216,7 @@ def seas_bp1(
     kernel_epsilon: float | None = None,
     integrator: Literal[
         "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
-    ] = "dormand-prince",
+    ] = ...,
     threads: int | None = None,
     end_years: float = ...,
     every_step: bool = False,
@@ -269,7 +269,7 @@ def seas_bp5(
     epsilon: float = ...,
     integrator: Literal[
         "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
-    ] = "dormand-prince",
+    ] = ...,
     threads: int | None = None,
     out: _Path | None = None,
     overwrite: bool = False,
