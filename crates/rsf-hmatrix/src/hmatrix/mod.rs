@@ -14,7 +14,10 @@ use crate::error::{ColumnsError, Error};
 use crate::lowrank::{svd_truncate, LowRank};
 use crate::options::{ColumnReport, ErrorMeasure, HOptions, SetupReport};
 use crate::points::Points;
-use crate::product::{run_part, run_parts, Block, Data, Operands, PartRows, Segment, Split};
+use crate::product::{
+    panel_index, run_part, run_parts, to_row_panels, Block, Data, Operands, PartRows, Segment,
+    Split,
+};
 
 mod entries;
 
@@ -272,6 +275,15 @@ impl HMatrix {
         };
         let mut rank_sum = 0;
         for b in &mut blocks {
+            // The block's rows are whole leaf clusters: its row panels, one per leaf.
+            let sh = b.shape;
+            let first = segments.partition_point(|s| s.start < sh.row);
+            let last = segments.partition_point(|s| s.start < sh.row + sh.nrows);
+            let lens: Vec<usize> = segments[first..last].iter().map(|s| s.len).collect();
+            match &mut b.data {
+                Data::Dense(d) => *d = to_row_panels(d, sh.nrows, sh.ncols, &lens),
+                Data::LowRank(lr) => lr.u = to_row_panels(&lr.u, sh.nrows, lr.rank, &lens),
+            }
             match &b.data {
                 Data::Dense(d) => {
                     report.dense_blocks += 1;
@@ -312,11 +324,14 @@ impl HMatrix {
             let b = &self.blocks[k];
             let sh = b.shape;
             if sh.col <= q && q < sh.col + sh.ncols {
-                let (i, j) = (off + p - seg.start, q - sh.col);
+                // Row panels: the segment's rows of the block start at its row `off`.
+                let (i, j, len) = (p - seg.start, q - sh.col, seg.len);
                 return match &b.data {
-                    Data::Dense(d) => d[j * sh.nrows + i],
+                    Data::Dense(d) => d[panel_index(off, len, sh.ncols, i, j)],
                     Data::LowRank(lr) => (0..lr.rank)
-                        .map(|l| lr.u[l * sh.nrows + i] * lr.v[l * sh.ncols + j])
+                        .map(|l| {
+                            lr.u[panel_index(off, len, lr.rank, i, l)] * lr.v[l * sh.ncols + j]
+                        })
                         .sum(),
                 };
             }
