@@ -102,8 +102,53 @@ fn event_error(run: &[f64], reference: &[f64]) -> (f64, usize) {
     (e, n)
 }
 
+/// One row of `integrators.csv`: a run's counts and its errors against its problem's
+/// reference.
+struct Row {
+    integrator: String,
+    tolerance: f64,
+    steps: f64,
+    evaluations: f64,
+    cpu_s: f64,
+    events: usize,
+    event_error: f64,
+    peak_error: f64,
+}
+
+const CSV_HEADER: &str =
+    "problem,integrator,tolerance,steps,evaluations,cpu_s,events,event_time_error,peak_slip_rate_error";
+
+/// The rows of an existing `integrators.csv` by problem (none if there is no file).
+fn read_csv(path: &Path) -> Res<BTreeMap<String, Vec<Row>>> {
+    let mut rows: BTreeMap<String, Vec<Row>> = BTreeMap::new();
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(rows);
+    };
+    for line in text.lines().skip(1).filter(|l| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').collect();
+        let num = |k: usize| -> Res<f64> {
+            f.get(k)
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| format!("{}: bad line `{line}`", path.display()).into())
+        };
+        rows.entry(f[0].to_string()).or_default().push(Row {
+            integrator: f.get(1).copied().unwrap_or("").to_string(),
+            tolerance: num(2)?,
+            steps: num(3)?,
+            evaluations: num(4)?,
+            cpu_s: num(5)?,
+            events: num(6)? as usize,
+            event_error: num(7)?,
+            peak_error: num(8)?,
+        });
+    }
+    Ok(rows)
+}
+
 /// Reads every run under `runs`, writes `integrators.csv` to `out` and
-/// `work_precision_integrators.png` to `figures`.
+/// `work_precision_integrators.png` to `figures`. The rows of an existing
+/// `out/integrators.csv` whose problem has no run under `runs` are kept (a study of one
+/// problem adds its rows to the others').
 pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<()> {
     let mut problems: BTreeMap<String, Vec<Run>> = BTreeMap::new();
     for entry in std::fs::read_dir(runs)? {
@@ -118,10 +163,8 @@ pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<(
         )
         .into());
     }
-    let mut csv = String::from(
-        "problem,integrator,tolerance,steps,evaluations,cpu_s,events,event_time_error,peak_slip_rate_error\n",
-    );
-    let mut panels: Vec<Panel> = Vec::new();
+    let mut table = read_csv(&out.join("integrators.csv"))?;
+    table.retain(|problem, _| !problems.contains_key(problem));
     for (problem, runs) in &mut problems {
         runs.sort_by(|a, b| {
             (&a.integrator, a.tolerance)
@@ -141,17 +184,44 @@ pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<(
             reference.events.clone(),
             reference.peak,
         );
+        let rows = runs
+            .iter()
+            .filter(|r| r.tolerance > ref_tol)
+            .map(|r| {
+                let (event_error, events) = event_error(&r.events, &ref_events);
+                Row {
+                    integrator: r.integrator.clone(),
+                    tolerance: r.tolerance,
+                    steps: r.steps,
+                    evaluations: r.evaluations,
+                    cpu_s: r.cpu_s,
+                    events,
+                    event_error,
+                    peak_error: ((r.peak - ref_peak) / ref_peak).abs(),
+                }
+            })
+            .collect();
+        table.insert(problem.clone(), rows);
+    }
+    let mut csv = format!("{CSV_HEADER}\n");
+    let mut panels: Vec<Panel> = Vec::new();
+    for (problem, rows) in &table {
         let mut times = BTreeMap::new();
         let mut peaks = BTreeMap::new();
-        for r in runs.iter().filter(|r| r.tolerance > ref_tol) {
-            let (e_t, n) = event_error(&r.events, &ref_events);
-            let e_p = ((r.peak - ref_peak) / ref_peak).abs();
+        for r in rows {
             writeln!(
                 csv,
-                "{problem},{},{:e},{},{},{:.2},{n},{e_t:.3e},{e_p:.3e}",
-                r.integrator, r.tolerance, r.steps, r.evaluations, r.cpu_s
+                "{problem},{},{:e},{},{},{:.2},{},{:.3e},{:.3e}",
+                r.integrator,
+                r.tolerance,
+                r.steps,
+                r.evaluations,
+                r.cpu_s,
+                r.events,
+                r.event_error,
+                r.peak_error
             )?;
-            for (map, e) in [(&mut times, e_t), (&mut peaks, e_p)] {
+            for (map, e) in [(&mut times, r.event_error), (&mut peaks, r.peak_error)] {
                 if e > 0.0 && r.cpu_s > 0.0 {
                     map.entry(r.integrator.clone())
                         .or_insert_with(Vec::new)
@@ -160,7 +230,7 @@ pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<(
             }
         }
         panels.push((
-            format!("{problem}: event times (reference dormand-prince {ref_tol:e})"),
+            format!("{problem}: event times (against dormand-prince, tightest tolerance)"),
             times,
         ));
         panels.push((format!("{problem}: peak slip rate"), peaks));
