@@ -325,6 +325,10 @@ fn accumulate(s: &Segment, z: &mut [f64], blocks: &[Block], t: &[f64], xp: &[f64
 #[inline]
 fn panel_axpy(z: &mut [f64], a: &[f64], panel: &[f64]) {
     let width = a.len();
+    if width == 0 {
+        // A low-rank block of rank 0 (a block that is zero to ε): nothing to add.
+        return;
+    }
     for (zs, ps) in z.chunks_mut(STRIP).zip(panel.chunks(STRIP * width)) {
         if let Ok(zs) = <&mut [f64; STRIP]>::try_from(&mut *zs) {
             let mut acc = *zs;
@@ -387,7 +391,7 @@ mod tests {
     #[test]
     fn row_panels_move_every_entry_to_its_panel_index() {
         let nrows: usize = LENS.iter().sum();
-        for width in [1, 5, 17] {
+        for width in [0, 1, 5, 17] {
             let data: Vec<f64> = (0..nrows * width).map(|k| k as f64).collect();
             let panels = to_row_panels(&data, nrows, width, &LENS);
             assert_eq!(panels.len(), data.len());
@@ -412,12 +416,12 @@ mod tests {
 
     /// The strip kernel adds each row's terms in the column order of the plain
     /// column-by-column `axpy` it replaced: the same bits, where summing the columns in
-    /// reverse order changes some.
+    /// reverse order changes some. Width 0 (a rank-0 block) adds nothing.
     #[test]
     fn the_panel_product_has_the_bits_of_the_column_by_column_sum() {
         let mut rng = SplitMix64::new(7);
         let nrows: usize = LENS.iter().sum();
-        for width in [1, 4, 9, 48] {
+        for width in [0, 1, 4, 9, 48] {
             let data = numbers(nrows * width, &mut rng);
             let a = numbers(width, &mut rng);
             let z0 = numbers(nrows, &mut rng);
